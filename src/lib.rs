@@ -36,6 +36,7 @@ pub mod brdf;
 pub mod error;
 pub mod factor;
 pub mod material;
+pub mod scene;
 pub mod util;
 
 pub use error::{Error, Result};
