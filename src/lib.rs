@@ -29,7 +29,7 @@
 //! let lambert = Analytic::Lambert { albedo: [0.8, 0.5, 0.2] };
 //! let values = pattern.shade(|l, v| lambert.shading(l, v));
 //! let fit = prepared.solve(&values, Mapping::Auto).unwrap();
-//! assert!(fit.rms_relative < 0.05);
+//! assert!(fit.errors.rms_relative < 0.05);
 //! ```
 
 pub mod brdf;

@@ -1,1 +1,29 @@
-//! Factorization.
+//! Homomorphic factorization (thesis chapter 3).
+//!
+//! A shading function is approximated by a product of low-dimensional lookup tables,
+//! $S \approx \prod_j p_j(\pi_j(l, v, uv))$ (eq. 3.1). In log space this is linear (eq. 3.2),
+//! and with Laplacian smoothing rows it becomes the overdetermined system of eq. 3.4,
+//! solved in the least-squares sense.
+//!
+//! - [`param`]: the parameterizations $\pi_j$ (parabolic, radius, hemispherical, uv), each a
+//!   forward/inverse pair, with a representation of directions below the horizon.
+//! - [`table`]: tables, interpolation stencils (the rows of $\mathbf A_j$), Laplacian rows.
+//! - [`Pattern`]: where the samples are. [`Settings`]: which factors, how to solve.
+//! - [`prepare`] → [`Prepared`]: the factored system; [`Prepared::solve`] per set of values.
+//! - [`Mapping`]: linear-to-log mappings (3.2.3).
+//! - [`cache`]: prepared systems saved to disk, keyed by pattern and settings.
+
+pub mod cache;
+pub mod mapping;
+pub mod param;
+mod pattern;
+mod prepared;
+mod settings;
+pub mod system;
+pub mod table;
+
+pub use mapping::{LogMap, Mapping};
+pub use param::{Domain, Param};
+pub use pattern::{Pattern, Query, Sample};
+pub use prepared::{errors, prepare, Errors, Fit, Prepared, Spectral};
+pub use settings::{defaults, CustomInput, FactorSpec, Input, Method, Settings};

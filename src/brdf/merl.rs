@@ -1,3 +1,0 @@
-/// A measured BRDF in the MERL binary layout.
-#[derive(Clone, Debug)]
-pub struct Merl;

@@ -1,0 +1,409 @@
+//! Prepare once, solve many (thesis 3.2.2).
+//!
+//! [`prepare`] builds the normal equations $\mathbf G = \mathbf B^\top\mathbf B$ of eq. 3.4 for
+//! a sample pattern and factors them. It never sees sample values. [`Prepared::solve`] then
+//! maps values to log space, forms $\mathbf b = \mathbf A^\top \tilde{\mathbf f}$ (a sparse
+//! gather) and applies the prepared inverse to three right-hand sides at once (R, G, B).
+//!
+//! The default pre-factors $\mathbf G$ by Cholesky: dense when it is small or dense (the
+//! inverse is kept, so a solve is one matrix product), sparse supernodal otherwise (a 256²
+//! uv factor). The thesis's pseudo-inverse variants are available as [`Method`]s; they use
+//! the eigendecomposition $\mathbf G = \mathbf V \mathbf S^2 \mathbf V^\top$, whose
+//! $\mathbf V$ are the right singular vectors of $\mathbf B$, and expose the change of basis
+//! of eqs. 3.10–3.12 through [`Spectral`].
+
+use std::time::Instant;
+
+use faer::linalg::solvers::{DenseSolveCore, Solve};
+use faer::sparse::{SparseColMat, SymbolicSparseColMat};
+use faer::{Accum, Mat, Par, Side};
+
+use super::mapping::{LogMap, Mapping};
+use super::pattern::{Pattern, Query};
+use super::settings::{Method, Settings};
+use super::system::{self, Design, SymCsc};
+use crate::error::{Error, Result};
+
+/// Systems at most this large are always factored densely.
+const DENSE_ALWAYS: usize = 1024;
+/// Larger systems are factored densely when this fraction of G is nonzero.
+const DENSE_FILL: f64 = 0.2;
+
+/// A factored system, ready to solve any values on its pattern.
+pub struct Prepared {
+    settings: Settings,
+    design: Design,
+    solver: Solver,
+    /// Seconds spent assembling G and factoring it.
+    pub prepare_s: f64,
+}
+
+pub(crate) enum Solver {
+    /// $\mathbf G^{-1}$, dense.
+    Dense(Mat<f64>),
+    /// Sparse supernodal Cholesky of $\mathbf G$ (with $\mathbf G$ kept for the cache).
+    Sparse(Box<faer::sparse::linalg::solvers::Llt<usize, f64>>, SymCsc),
+    /// A filtered pseudo-inverse.
+    Spectral(Spectral),
+}
+
+/// The pseudo-inverse in the change-of-basis form of eqs. 3.10–3.12.
+///
+/// With $\mathbf B = \mathbf U \mathbf S \mathbf V^\top$ and the filtered weights $\phi_i$
+/// of the chosen method, the solution is $\mathbf y^* = \sum_i \beta_i \mathbf v_i$ with
+/// $\beta_i = (\phi_i / s_i)\,(\mathbf u_i' \cdot \tilde{\mathbf f})
+///         = (\phi_i / s_i^2)\,\mathbf v_i^\top \mathbf A^\top \tilde{\mathbf f}$.
+pub struct Spectral {
+    /// Basis vectors $\mathbf v_i$ as columns, by descending singular value.
+    pub basis: Mat<f64>,
+    /// Singular values $s_i$ of $\mathbf B$, descending.
+    pub singular: Vec<f64>,
+    /// $\phi_i / s_i^2$: the weight of each coefficient.
+    pub weight: Vec<f64>,
+    /// $\mathbf V \operatorname{diag}(\phi/s^2) \mathbf V^\top$, applied by `solve`.
+    operator: Mat<f64>,
+}
+
+impl Spectral {
+    fn new(g: &SymCsc, method: Method) -> Result<Spectral> {
+        let dense = g.to_dense();
+        let evd = dense
+            .self_adjoint_eigen(Side::Lower)
+            .map_err(|e| Error::Numeric(format!("eigendecomposition failed: {e:?}")))?;
+        let n = g.n;
+        // faer sorts eigenvalues ascending; the thesis indexes singular values descending.
+        let order: Vec<usize> = (0..n).rev().collect();
+        let values = evd.S().column_vector();
+        let singular: Vec<f64> = order.iter().map(|&i| values[i].max(0.0).sqrt()).collect();
+        let basis = Mat::from_fn(n, n, |r, c| evd.U()[(r, order[c])]);
+        let s0 = singular[0].max(f64::MIN_POSITIVE);
+        let weight: Vec<f64> = singular
+            .iter()
+            .enumerate()
+            .map(|(i, &s)| {
+                let s2 = s * s;
+                match method {
+                    Method::TruncatedSvd { rel_tol } => {
+                        if s > rel_tol * s0 && s2 > 0.0 {
+                            1.0 / s2
+                        } else {
+                            0.0
+                        }
+                    }
+                    // eq. 3.8: $s_i / (s_i^2 + \alpha^2)$ times $u_i \cdot g = v_i^\top b / s_i$.
+                    Method::DampedSvd { alpha } => {
+                        let a = alpha * s0;
+                        if s2 + a * a > 0.0 {
+                            1.0 / (s2 + a * a)
+                        } else {
+                            0.0
+                        }
+                    }
+                    // eq. 3.9: $\mathrm{pos}(1 - i\gamma)/s_i$.
+                    Method::LinearSvd { gamma } => {
+                        let phi = (1.0 - i as f64 * gamma).max(0.0);
+                        if s2 > 0.0 {
+                            phi / s2
+                        } else {
+                            0.0
+                        }
+                    }
+                    Method::Cholesky => unreachable!("Cholesky has no spectral form"),
+                }
+            })
+            .collect();
+        let scaled = Mat::from_fn(n, n, |r, c| basis[(r, c)] * weight[c]);
+        let mut operator = Mat::zeros(n, n);
+        faer::linalg::matmul::matmul(&mut operator, Accum::Replace, &scaled, basis.transpose(), 1.0, Par::rayon(0));
+        Ok(Spectral { basis, singular, weight, operator })
+    }
+
+    /// Coefficients $\beta$ (eq. 3.11) of a right-hand side $\mathbf b = \mathbf A^\top
+    /// \tilde{\mathbf f}$ (n × 3).
+    pub fn coefficients(&self, b: &Mat<f64>) -> Mat<f64> {
+        let mut beta = self.basis.transpose() * b;
+        for i in 0..beta.nrows() {
+            for c in 0..beta.ncols() {
+                beta[(i, c)] *= self.weight[i];
+            }
+        }
+        beta
+    }
+
+    /// The solution $\mathbf y^* = \sum_i \beta_i \mathbf v_i$ (eq. 3.12).
+    pub fn synthesize(&self, beta: &Mat<f64>) -> Mat<f64> {
+        &self.basis * beta
+    }
+}
+
+/// Prediction errors in linear space (thesis Table 5.4's metrics).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Errors {
+    /// Root mean square error over all samples and channels.
+    pub rms: f64,
+    /// RMS error divided by the RMS of the values.
+    pub rms_relative: f64,
+    /// Largest absolute error.
+    pub max: f64,
+}
+
+/// The result of a solve: linear-space factor tables and the mapping they approximate.
+#[derive(Clone, Debug)]
+pub struct Fit {
+    /// Per factor, its table in linear space ($p_j = e^{\tilde p_j}$), RGB, row by row.
+    pub tables: Vec<Vec<[f64; 3]>>,
+    /// The mapping whose transformed values the product approximates.
+    pub map: LogMap,
+    /// Errors on the fitted samples.
+    pub errors: Errors,
+    /// Every mapping tried (one, or three for `auto`) and its errors.
+    pub tried: Vec<(LogMap, Errors)>,
+}
+
+impl Prepared {
+    /// The settings this system was prepared with.
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// Number of samples of the pattern.
+    pub fn samples(&self) -> usize {
+        self.design.rows()
+    }
+
+    /// Unknowns per channel (columns of the system).
+    pub fn unknowns(&self) -> usize {
+        self.design.n
+    }
+
+    /// Which factorization was chosen: "dense", "sparse" or "spectral".
+    pub fn solver_kind(&self) -> &'static str {
+        match self.solver {
+            Solver::Dense(_) => "dense",
+            Solver::Sparse(..) => "sparse",
+            Solver::Spectral(_) => "spectral",
+        }
+    }
+
+    /// The change-of-basis form, when the method is a pseudo-inverse variant.
+    pub fn spectral(&self) -> Option<&Spectral> {
+        match &self.solver {
+            Solver::Spectral(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    /// Check values: one per sample, finite, non-negative, not all zero. Returns the
+    /// per-channel maximum.
+    fn check(&self, values: &[[f64; 3]]) -> Result<[f64; 3]> {
+        if values.len() != self.samples() {
+            return Err(Error::input(format!(
+                "{} values for a pattern of {} samples",
+                values.len(),
+                self.samples()
+            )));
+        }
+        let mut max = [0.0f64; 3];
+        for (k, v) in values.iter().enumerate() {
+            for c in 0..3 {
+                let x = v[c];
+                if !x.is_finite() {
+                    return Err(Error::input(format!("sample {k} has a non-finite value {x}")));
+                }
+                if x < 0.0 {
+                    return Err(Error::input(format!("sample {k} has a negative value {x}")));
+                }
+                max[c] = max[c].max(x);
+            }
+        }
+        if max.iter().all(|&m| m == 0.0) {
+            return Err(Error::input("every sample value is zero: there is nothing to fit"));
+        }
+        Ok(max)
+    }
+
+    /// The right-hand side $\mathbf b = \mathbf A^\top \tilde{\mathbf f}$ of mapped values.
+    pub fn rhs(&self, values: &[[f64; 3]], map: &LogMap) -> Mat<f64> {
+        let logs: Vec<[f64; 3]> =
+            values.iter().map(|v| [map.forward(0, v[0]), map.forward(1, v[1]), map.forward(2, v[2])]).collect();
+        let mut b = vec![[0.0; 3]; self.design.n];
+        self.design.transpose_apply(&logs, &mut b);
+        Mat::from_fn(self.design.n, 3, |r, c| b[r][c])
+    }
+
+    /// Log-space tables $\tilde{\mathbf y}$ (n × 3) for a right-hand side.
+    pub fn apply(&self, b: &Mat<f64>) -> Mat<f64> {
+        match &self.solver {
+            Solver::Dense(inv) => {
+                let mut y = Mat::zeros(self.design.n, 3);
+                let par = if self.design.n > 1500 { Par::rayon(0) } else { Par::Seq };
+                faer::linalg::matmul::matmul(&mut y, Accum::Replace, inv, b, 1.0, par);
+                y
+            }
+            Solver::Sparse(llt, _) => {
+                let mut y = b.clone();
+                llt.solve_in_place(&mut y);
+                y
+            }
+            Solver::Spectral(s) => &s.operator * b,
+        }
+    }
+
+    /// Solve for one mapping without computing errors: the fast path of live painting.
+    pub fn solve_tables(&self, values: &[[f64; 3]], map: &LogMap) -> Result<Vec<Vec<[f64; 3]>>> {
+        self.check(values)?;
+        let y = self.apply(&self.rhs(values, map));
+        Ok(self.split(&y))
+    }
+
+    /// Split the solution vector into per-factor linear-space tables.
+    fn split(&self, y: &Mat<f64>) -> Vec<Vec<[f64; 3]>> {
+        self.settings
+            .factors
+            .iter()
+            .zip(&self.design.offsets)
+            .map(|(f, &o)| (0..f.len()).map(|i| [0, 1, 2].map(|c| y[(o + i, c)].exp())).collect())
+            .collect()
+    }
+
+    /// Solve: try the mapping's candidates and keep the one with the lowest linear-space
+    /// RMS error on the samples (thesis 3.2.3: "try several mappings quickly with a single
+    /// pseudo-inverse, and pick the one with the smallest error").
+    pub fn solve(&self, values: &[[f64; 3]], mapping: Mapping) -> Result<Fit> {
+        let max = self.check(values)?;
+        let mut best: Option<Fit> = None;
+        let mut tried = Vec::new();
+        for map in mapping.candidates(max)? {
+            let y = self.apply(&self.rhs(values, &map));
+            let tables = self.split(&y);
+            let errors = self.errors(&tables, &map, values);
+            tried.push((map, errors));
+            // NaN errors (an overflowing exp) never win.
+            if best.as_ref().is_none_or(|b| errors.rms < b.errors.rms) {
+                best = Some(Fit { tables, map, errors, tried: Vec::new() });
+            }
+        }
+        let mut fit = best.ok_or_else(|| Error::Numeric("no mapping gave a finite fit".into()))?;
+        if !fit.errors.rms.is_finite() {
+            return Err(Error::Numeric("the fit is not finite (values span too many orders of magnitude)".into()));
+        }
+        fit.tried = tried;
+        Ok(fit)
+    }
+
+    /// Linear-space prediction at every sample: the product of linearly interpolated
+    /// linear-space tables (exactly what the shader computes), mapped back.
+    pub fn predict(&self, tables: &[Vec<[f64; 3]>], map: &LogMap) -> Vec<[f64; 3]> {
+        let d = &self.design;
+        // Which factor a column belongs to.
+        let factor_of = |c: usize| d.offsets.partition_point(|&o| o <= c) - 1;
+        (0..d.rows())
+            .map(|r| {
+                let mut prod = [1.0f64; 3];
+                let mut current = usize::MAX;
+                let mut sum = [0.0f64; 3];
+                for k in d.row_ptr[r] as usize..d.row_ptr[r + 1] as usize {
+                    let c = d.row_col[k] as usize;
+                    let j = factor_of(c);
+                    if j != current {
+                        if current != usize::MAX {
+                            prod = [0, 1, 2].map(|i| prod[i] * sum[i]);
+                        }
+                        current = j;
+                        sum = [0.0; 3];
+                    }
+                    let t = &tables[j][c - d.offsets[j]];
+                    for i in 0..3 {
+                        sum[i] += d.row_val[k] * t[i];
+                    }
+                }
+                prod = [0, 1, 2].map(|i| prod[i] * sum[i]);
+                [0, 1, 2].map(|i| map.inverse(i, prod[i]))
+            })
+            .collect()
+    }
+
+    /// Errors of tables against values at the samples.
+    pub fn errors(&self, tables: &[Vec<[f64; 3]>], map: &LogMap, values: &[[f64; 3]]) -> Errors {
+        errors(&self.predict(tables, map), values)
+    }
+
+    pub(crate) fn parts(&self) -> (&Settings, &Design, &Solver) {
+        (&self.settings, &self.design, &self.solver)
+    }
+
+    pub(crate) fn from_parts(settings: Settings, design: Design, solver: Solver, prepare_s: f64) -> Prepared {
+        Prepared { settings, design, solver, prepare_s }
+    }
+}
+
+/// RMS, relative RMS and max error of predictions against values.
+pub fn errors(predicted: &[[f64; 3]], values: &[[f64; 3]]) -> Errors {
+    let (mut se, mut sv, mut max) = (0.0, 0.0, 0.0f64);
+    for (p, v) in predicted.iter().zip(values) {
+        for c in 0..3 {
+            let e = p[c] - v[c];
+            se += e * e;
+            sv += v[c] * v[c];
+            max = max.max(e.abs());
+        }
+    }
+    let count = (3 * values.len()).max(1) as f64;
+    Errors { rms: (se / count).sqrt(), rms_relative: (se / sv.max(f64::MIN_POSITIVE)).sqrt(), max }
+}
+
+/// Build and factor the system for a pattern. Depends only on where the samples are.
+pub fn prepare(pattern: &Pattern, settings: &Settings) -> Result<Prepared> {
+    let start = Instant::now();
+    let design = Design::new(pattern, settings)?;
+    let g = system::normal_matrix(&design, settings);
+    let solver = factor(&g, settings.method)?;
+    Ok(Prepared { settings: settings.clone(), design, solver, prepare_s: start.elapsed().as_secs_f64() })
+}
+
+/// The error for a Cholesky factorization that met a non-positive pivot.
+fn not_spd<E>(_: E) -> Error {
+    Error::Numeric(
+        "the normal equations are not positive definite; add smoothing or damping, or check \
+         that every factor's table is reached by samples"
+            .into(),
+    )
+}
+
+/// Factor G by the method (and, for Cholesky, the cheaper of dense and sparse).
+pub(crate) fn factor(g: &SymCsc, method: Method) -> Result<Solver> {
+    if method != Method::Cholesky {
+        return Ok(Solver::Spectral(Spectral::new(g, method)?));
+    }
+    if g.n <= DENSE_ALWAYS || g.density() >= DENSE_FILL {
+        let dense = g.to_dense();
+        let llt = dense.llt(Side::Lower).map_err(not_spd)?;
+        return Ok(Solver::Dense(llt.inverse()));
+    }
+    let symbolic = SymbolicSparseColMat::new_checked(g.n, g.n, g.col_ptr.clone(), None, g.row.clone());
+    let mat = SparseColMat::new(symbolic, g.val.clone());
+    let sym = faer::sparse::linalg::solvers::SymbolicLlt::try_new(mat.symbolic(), Side::Lower)
+        .map_err(|e| Error::Numeric(format!("symbolic factorization failed: {e:?}")))?;
+    let llt = faer::sparse::linalg::solvers::Llt::try_new_with_symbolic(sym, mat.as_ref(), Side::Lower)
+        .map_err(not_spd)?;
+    Ok(Solver::Sparse(Box::new(llt), g.clone()))
+}
+
+impl Fit {
+    /// Evaluate the fitted product at a query (linear space, mapped back), with the same
+    /// interpolation as the shader.
+    pub fn eval(&self, settings: &Settings, q: &Query) -> [f64; 3] {
+        let mut prod = [1.0; 3];
+        for (spec, t) in settings.factors.iter().zip(&self.tables) {
+            let s = system::stencil(spec, q);
+            let mut sum = [0.0; 3];
+            for (i, w) in s.iter() {
+                for c in 0..3 {
+                    sum[c] += w * t[i][c];
+                }
+            }
+            prod = [0, 1, 2].map(|c| prod[c] * sum[c]);
+        }
+        [0, 1, 2].map(|c| self.map.inverse(c, prod[c]))
+    }
+}

@@ -1,0 +1,275 @@
+//! What to fit: the factors (input, parameterization, resolution, regularization) and how to
+//! solve. Together with a [`Pattern`](super::Pattern) these fix the prepared system.
+
+use std::fmt;
+use std::sync::Arc;
+
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+use super::param::{Domain, Param};
+use super::pattern::Query;
+use crate::error::{Error, Result};
+
+/// What a factor looks up.
+#[derive(Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Input {
+    /// The light direction $l$ (the thesis's $p$).
+    Light,
+    /// The half vector $h$ (the thesis's $q$).
+    Half,
+    /// The view direction $v$ (the thesis's $r$).
+    View,
+    /// Surface texture coordinates (the fourth factor $s(u, v)$, thesis 4.2.1).
+    Uv,
+    /// A projection the caller supplies. Not storable in a material.
+    Custom(CustomInput),
+}
+
+impl fmt::Debug for Input {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl Input {
+    /// Short name: light, half, view, uv, or the custom projection's name.
+    pub fn name(&self) -> &str {
+        match self {
+            Input::Light => "light",
+            Input::Half => "half",
+            Input::View => "view",
+            Input::Uv => "uv",
+            Input::Custom(c) => &c.name,
+        }
+    }
+}
+
+/// A caller-supplied projection: maps a query straight to table coordinates in $[0,1]$
+/// (the second coordinate is ignored by 1D tables). The name identifies it in cache keys.
+#[derive(Clone)]
+pub struct CustomInput {
+    pub name: String,
+    pub project: Arc<dyn Fn(&Query) -> [f64; 2] + Send + Sync>,
+}
+
+impl PartialEq for CustomInput {
+    fn eq(&self, other: &Self) -> bool {
+        self.name == other.name
+    }
+}
+
+impl Serialize for CustomInput {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&self.name)
+    }
+}
+
+impl<'de> Deserialize<'de> for CustomInput {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        Err(serde::de::Error::custom(format!("custom projection '{name}' cannot be loaded from a file")))
+    }
+}
+
+/// One factor of the product.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FactorSpec {
+    pub input: Input,
+    pub param: Param,
+    pub domain: Domain,
+    /// Table nodes per axis.
+    pub res: usize,
+    /// Laplacian smoothing weight $\lambda$ (eq. 3.4). Scale-free: the smoothing term is
+    /// $\lambda^2 N \int |\nabla^2 \tilde p|^2$ over the table's unit domain, so one value means
+    /// the same smoothness at any resolution and sample count $N$.
+    pub smooth: f64,
+    /// First-difference damping $\mu$: adds $\mu N \int |\nabla \tilde p|^2$, pulling the
+    /// factor toward a constant wherever the data leaves it free. This is what makes a fit
+    /// from one painting generalize (see [`Settings::default`]).
+    pub damp: f64,
+    /// Ridge $\rho$: adds $\rho N \int \tilde p^2$, pulling the factor toward 1. Used for the
+    /// uv factor, which a single view could otherwise use to absorb all shading.
+    pub ridge: f64,
+}
+
+impl FactorSpec {
+    /// Table dimension (1 or 2).
+    pub fn dim(&self) -> usize {
+        self.param.dim()
+    }
+
+    /// Number of table entries.
+    pub fn len(&self) -> usize {
+        self.res.pow(self.dim() as u32)
+    }
+
+    /// Whether the table is empty (never, for a valid spec).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// How the prepared system is solved (thesis 3.2.2).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum Method {
+    /// Cholesky factorization of the normal equations (dense or sparse, chosen by fill).
+    #[default]
+    Cholesky,
+    /// Truncated pseudo-inverse (eq. 3.7): singular values below `rel_tol` × the largest
+    /// are dropped.
+    TruncatedSvd { rel_tol: f64 },
+    /// Damped pseudo-inverse (eq. 3.8) with $\alpha$ = `alpha` × the largest singular value.
+    DampedSvd { alpha: f64 },
+    /// Linearly damped pseudo-inverse (eq. 3.9): the $i$-th singular value (descending)
+    /// is scaled by $\mathrm{pos}(1 - i\gamma)$.
+    LinearSvd { gamma: f64 },
+}
+
+/// The factors and the solve method.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Settings {
+    pub factors: Vec<FactorSpec>,
+    pub method: Method,
+}
+
+/// Defaults, chosen by measuring error on held-out lights and views (not on the fitted
+/// samples) over the analytic suite; see BENCHMARKS.md, "Conditioning".
+pub mod defaults {
+    /// Nodes of a 1D factor.
+    pub const RES_1D: usize = 64;
+    /// Nodes per axis of a 2D directional factor.
+    pub const RES_2D: usize = 24;
+    /// Nodes per axis of the uv factor.
+    pub const RES_UV: usize = 32;
+    /// Laplacian weight.
+    pub const SMOOTH: f64 = 1e-3;
+    /// First-difference damping of the half-vector and view factors.
+    pub const DAMP: f64 = 1e-2;
+    /// Ridge of the uv factor.
+    pub const RIDGE_UV: f64 = 1e-2;
+}
+
+/// Largest table resolution per axis accepted for 1D and 2D factors.
+pub const MAX_RES_1D: usize = 1 << 14;
+pub const MAX_RES_2D: usize = 1024;
+/// Largest total number of unknowns.
+pub const MAX_UNKNOWNS: usize = 1 << 20;
+
+impl Default for Settings {
+    /// The thesis's isotropic product $p(l)\,q(h)\,r(v)$ with 1D radius factors (eq. 3.5).
+    ///
+    /// Conditioning: on one painted view, $\cos\theta_h$ is nearly a function of
+    /// $\cos\theta_l$ and $\cos\theta_v$ (exactly, for a distant light and camera:
+    /// $\cos\theta_h = (\cos\theta_l + \cos\theta_v) / (2\cos(\alpha/2))$), so a log-space
+    /// change $k(\cos\theta_l + \cos\theta_v - 2\cos(\alpha/2)\cos\theta_h)$ spread over the
+    /// three factors leaves the painting unchanged and ruins every other view. Damping $q$ and
+    /// $r$ toward constants, and leaving $p$ free, resolves that direction in favour of the
+    /// light factor: a Lambertian painting then gives constant $q$ and $r$ exactly.
+    fn default() -> Self {
+        Settings::uniform(1, defaults::RES_1D)
+    }
+}
+
+impl Settings {
+    /// Three factors $p(l)\,q(h)\,r(v)$: 1D radius factors (`dim` = 1) or 2D parabolic ones.
+    pub fn uniform(dim: usize, res: usize) -> Settings {
+        let param = if dim == 1 { Param::Radius } else { Param::Parabolic };
+        let factor = |input, domain, damp| FactorSpec {
+            input,
+            param,
+            domain,
+            res,
+            smooth: defaults::SMOOTH,
+            damp,
+            ridge: 0.0,
+        };
+        // 2D tables spend a quarter of their area on the lower hemisphere in the sphere
+        // domain, so only the light factor (the unlit side) gets it there.
+        let half_domain = if dim == 1 { Domain::Sphere } else { Domain::Hemisphere };
+        Settings {
+            factors: vec![
+                factor(Input::Light, Domain::Sphere, 0.0),
+                factor(Input::Half, half_domain, defaults::DAMP),
+                factor(Input::View, Domain::Hemisphere, defaults::DAMP),
+            ],
+            method: Method::Cholesky,
+        }
+    }
+
+    /// The four-factor product $p(l)\,q(h)\,r(v)\,s(u,v)$ (thesis 4.2.1).
+    pub fn four_factor(dim: usize, res: usize, uv_res: usize) -> Settings {
+        let mut s = Settings::uniform(dim, res);
+        s.factors.push(FactorSpec {
+            input: Input::Uv,
+            param: Param::Uv,
+            domain: Domain::Hemisphere,
+            res: uv_res,
+            smooth: defaults::SMOOTH,
+            damp: 0.0,
+            ridge: defaults::RIDGE_UV,
+        });
+        s
+    }
+
+    /// Total unknowns per channel.
+    pub fn unknowns(&self) -> usize {
+        self.factors.iter().map(FactorSpec::len).sum()
+    }
+
+    /// Check resolutions and weights; absurd values are an error naming the factor.
+    pub fn validate(&self) -> Result<()> {
+        if self.factors.is_empty() {
+            return Err(Error::input("no factors: at least one is needed"));
+        }
+        for (j, f) in self.factors.iter().enumerate() {
+            let max = if f.dim() == 1 { MAX_RES_1D } else { MAX_RES_2D };
+            if f.res < 2 || f.res > max {
+                return Err(Error::input(format!(
+                    "factor {j} ({}): resolution {} is outside 2..={max}",
+                    f.input.name(),
+                    f.res
+                )));
+            }
+            for (what, x) in [("smooth", f.smooth), ("damp", f.damp), ("ridge", f.ridge)] {
+                if !x.is_finite() || x < 0.0 {
+                    return Err(Error::input(format!(
+                        "factor {j} ({}): {what} weight {x} must be a finite non-negative number",
+                        f.input.name()
+                    )));
+                }
+            }
+            let uv_ok = matches!((&f.input, f.param), (Input::Uv, Param::Uv) | (Input::Custom(_), _))
+                || !matches!(f.input, Input::Uv) && f.param != Param::Uv;
+            if !uv_ok {
+                return Err(Error::input(format!(
+                    "factor {j}: input '{}' cannot use the {:?} parameterization",
+                    f.input.name(),
+                    f.param
+                )));
+            }
+        }
+        if self.unknowns() > MAX_UNKNOWNS {
+            return Err(Error::input(format!(
+                "{} unknowns is more than the {MAX_UNKNOWNS} this solver accepts",
+                self.unknowns()
+            )));
+        }
+        match self.method {
+            Method::TruncatedSvd { rel_tol: x } | Method::DampedSvd { alpha: x } | Method::LinearSvd { gamma: x }
+                if !x.is_finite() || x < 0.0 =>
+            {
+                Err(Error::input(format!("solve method parameter {x} must be finite and non-negative")))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// A stable fingerprint of the settings, for cache keys.
+    pub fn fingerprint(&self) -> u64 {
+        let mut h = crate::util::Fnv::new();
+        h.write(serde_json::to_string(self).unwrap_or_default().as_bytes());
+        h.finish()
+    }
+}

@@ -1,0 +1,290 @@
+//! The constraint system of eq. 3.4, $\mathbf g = \mathbf B \mathbf y$, and its normal
+//! equations $\mathbf G = \mathbf B^\top \mathbf B$.
+//!
+//! $\mathbf B$ stacks the sample rows $[\mathbf A_1 \cdots \mathbf A_J]$ (one row per sample,
+//! 2 or 4 interpolation weights per factor) over the regularization rows (Laplacian
+//! smoothing, damping, ridge) and a gauge row per factor. Only the sample rows have a
+//! nonzero right-hand side, so $\mathbf B^\top \mathbf g = \mathbf A^\top \tilde{\mathbf f}$.
+
+use glam::DVec2;
+
+use super::param::{self, Param};
+use super::pattern::{Pattern, Query};
+use super::settings::{FactorSpec, Input, Settings};
+use super::table::{self, Rows, Stencil};
+use crate::error::{Error, Result};
+
+/// Table coordinate of a query for one factor.
+pub fn coordinate(spec: &FactorSpec, q: &Query) -> [f64; 2] {
+    let d = match &spec.input {
+        Input::Light => q.l,
+        Input::Half => q.h(),
+        Input::View => q.v,
+        Input::Uv => {
+            let t = param::uv_forward(q.uv);
+            return [t.x, t.y];
+        }
+        Input::Custom(c) => return (c.project)(q),
+    };
+    match spec.param {
+        Param::Radius => [param::radius_forward(d, spec.domain), 0.0],
+        Param::Parabolic | Param::Hemispherical => {
+            let t = param::planar_forward(spec.param, d, spec.domain);
+            [t.x, t.y]
+        }
+        Param::Uv => {
+            let t = param::uv_forward(DVec2::new(d.x, d.y));
+            [t.x, t.y]
+        }
+    }
+}
+
+/// Interpolation stencil of a query in one factor's table.
+pub fn stencil(spec: &FactorSpec, q: &Query) -> Stencil {
+    let t = coordinate(spec, q);
+    if spec.dim() == 1 {
+        table::stencil_1d(t[0], spec.res)
+    } else {
+        table::stencil_2d(t, spec.res)
+    }
+}
+
+/// The sample matrix $\mathbf A$ (N × n), stored both by rows (to predict) and by columns
+/// (to form $\mathbf A^\top \tilde{\mathbf f}$ by gathering, which parallelizes).
+#[derive(Clone, Debug, Default)]
+pub struct Design {
+    /// Unknowns (columns).
+    pub n: usize,
+    /// Column offset of each factor.
+    pub offsets: Vec<usize>,
+    pub row_ptr: Vec<u32>,
+    pub row_col: Vec<u32>,
+    pub row_val: Vec<f64>,
+    pub col_ptr: Vec<u32>,
+    pub col_row: Vec<u32>,
+    pub col_val: Vec<f64>,
+}
+
+impl Design {
+    /// Build $\mathbf A$ for a pattern. Errors: empty pattern, uv factors without uv, a
+    /// factor no sample reaches.
+    pub fn new(pattern: &Pattern, settings: &Settings) -> Result<Design> {
+        settings.validate()?;
+        if pattern.is_empty() {
+            return Err(Error::input("no samples: the sample set is empty"));
+        }
+        if pattern.len() > u32::MAX as usize / 16 {
+            return Err(Error::input(format!("{} samples is too many", pattern.len())));
+        }
+        for (j, f) in settings.factors.iter().enumerate() {
+            if f.input == Input::Uv && !pattern.has_uv {
+                return Err(Error::input(format!(
+                    "factor {j} looks up texture coordinates, but the samples have none"
+                )));
+            }
+        }
+        let mut offsets = Vec::with_capacity(settings.factors.len());
+        let mut n = 0;
+        for f in &settings.factors {
+            offsets.push(n);
+            n += f.len();
+        }
+        let per_row: usize = settings.factors.iter().map(|f| if f.dim() == 1 { 2 } else { 4 }).sum();
+        let rows = pattern.len();
+        let mut row_ptr = Vec::with_capacity(rows + 1);
+        let mut row_col = Vec::with_capacity(rows * per_row);
+        let mut row_val = Vec::with_capacity(rows * per_row);
+        let mut reached = vec![0.0f64; settings.factors.len()];
+        row_ptr.push(0u32);
+        for q in &pattern.queries {
+            for (j, f) in settings.factors.iter().enumerate() {
+                let s = stencil(f, q);
+                for (i, w) in s.iter() {
+                    // Zero weights carry no information; dropping them keeps G sparser.
+                    if w != 0.0 {
+                        row_col.push((offsets[j] + i) as u32);
+                        row_val.push(w);
+                        reached[j] += w;
+                    }
+                }
+            }
+            row_ptr.push(row_col.len() as u32);
+        }
+        for (j, r) in reached.iter().enumerate() {
+            if *r <= 0.0 {
+                return Err(Error::input(format!(
+                    "factor {j} ({}) receives no samples",
+                    settings.factors[j].input.name()
+                )));
+            }
+        }
+        // Transpose to column storage by counting sort.
+        let mut col_ptr = vec![0u32; n + 1];
+        for &c in &row_col {
+            col_ptr[c as usize + 1] += 1;
+        }
+        for c in 0..n {
+            col_ptr[c + 1] += col_ptr[c];
+        }
+        let mut fill = col_ptr.clone();
+        let mut col_row = vec![0u32; row_col.len()];
+        let mut col_val = vec![0.0; row_col.len()];
+        for r in 0..rows {
+            for k in row_ptr[r] as usize..row_ptr[r + 1] as usize {
+                let c = row_col[k] as usize;
+                let dst = fill[c] as usize;
+                col_row[dst] = r as u32;
+                col_val[dst] = row_val[k];
+                fill[c] += 1;
+            }
+        }
+        Ok(Design { n, offsets, row_ptr, row_col, row_val, col_ptr, col_row, col_val })
+    }
+
+    /// Number of samples (rows).
+    pub fn rows(&self) -> usize {
+        self.row_ptr.len() - 1
+    }
+
+    /// $\mathbf b = \mathbf A^\top \tilde{\mathbf f}$ for three channels (`logs` is N × 3,
+    /// sample-major), written to `out` (n × 3, unknown-major).
+    pub fn transpose_apply(&self, logs: &[[f64; 3]], out: &mut [[f64; 3]]) {
+        use rayon::prelude::*;
+        let gather = |c: usize, o: &mut [f64; 3]| {
+            let mut acc = [0.0; 3];
+            for k in self.col_ptr[c] as usize..self.col_ptr[c + 1] as usize {
+                let w = self.col_val[k];
+                let f = &logs[self.col_row[k] as usize];
+                acc[0] += w * f[0];
+                acc[1] += w * f[1];
+                acc[2] += w * f[2];
+            }
+            *o = acc;
+        };
+        // Threads only pay off for large systems; rayon's fork costs a few microseconds.
+        if self.col_row.len() > 200_000 {
+            out.par_iter_mut().enumerate().with_min_len(64).for_each(|(c, o)| gather(c, o));
+        } else {
+            out.iter_mut().enumerate().for_each(|(c, o)| gather(c, o));
+        }
+    }
+}
+
+/// A symmetric sparse matrix in compressed columns (full storage, rows sorted).
+#[derive(Clone, Debug, Default)]
+pub struct SymCsc {
+    pub n: usize,
+    pub col_ptr: Vec<usize>,
+    pub row: Vec<usize>,
+    pub val: Vec<f64>,
+}
+
+impl SymCsc {
+    /// Fraction of nonzero entries.
+    pub fn density(&self) -> f64 {
+        self.val.len() as f64 / (self.n as f64 * self.n as f64)
+    }
+
+    /// Dense copy, column-major.
+    pub fn to_dense(&self) -> faer::Mat<f64> {
+        let mut m = faer::Mat::<f64>::zeros(self.n, self.n);
+        for c in 0..self.n {
+            for k in self.col_ptr[c]..self.col_ptr[c + 1] {
+                m[(self.row[k], c)] = self.val[k];
+            }
+        }
+        m
+    }
+}
+
+/// Regularization rows of every factor, in global unknown numbering, each with its weight
+/// already applied (so $\mathbf R = \sum_{\text{rows}} \mathbf r \mathbf r^\top$).
+fn regularization(settings: &Settings, offsets: &[usize], samples: usize) -> Rows {
+    let n_samples = samples as f64;
+    let mut out: Rows = Vec::new();
+    let mut push = |rows: Rows, scale: f64, offset: usize| {
+        for r in rows {
+            out.push(r.into_iter().map(|(i, c)| (offset + i, c * scale)).collect());
+        }
+    };
+    for (j, f) in settings.factors.iter().enumerate() {
+        let dim = f.dim();
+        let h = 1.0 / (f.res - 1) as f64;
+        // Quadrature weight of one node: the rows approximate integrals over the unit domain.
+        let cell = h.powi(dim as i32);
+        if f.smooth > 0.0 {
+            push(table::laplacian(f.res, dim), (f.smooth * f.smooth * n_samples * cell).sqrt(), offsets[j]);
+        }
+        if f.damp > 0.0 {
+            push(table::gradient(f.res, dim), (f.damp * n_samples * cell).sqrt(), offsets[j]);
+        }
+        if f.ridge > 0.0 {
+            let s = (f.ridge * n_samples * cell).sqrt();
+            push((0..f.len()).map(|i| vec![(i, s)]).collect(), 1.0, offsets[j]);
+        }
+        // Gauge: a constant moved from one factor to another changes nothing (the exact null
+        // directions of the log-space system). Fixing the mean of every factor but the first
+        // removes them without biasing the fit. A ridged factor has no null direction.
+        if j > 0 && f.ridge == 0.0 {
+            let s = n_samples.sqrt() / f.len() as f64;
+            push(vec![(0..f.len()).map(|i| (i, s)).collect()], 1.0, offsets[j]);
+        }
+    }
+    out
+}
+
+/// The normal matrix $\mathbf G = \mathbf A^\top \mathbf A + \mathbf R$ in sparse symmetric
+/// form, by Gustavson's column-by-column product with a dense accumulator.
+pub fn normal_matrix(design: &Design, settings: &Settings) -> SymCsc {
+    let n = design.n;
+    let reg = regularization(settings, &design.offsets, design.rows());
+    // Regularization rows grouped by the columns they touch.
+    let mut reg_by_col: Vec<Vec<u32>> = vec![Vec::new(); n];
+    for (r, row) in reg.iter().enumerate() {
+        for &(i, _) in row {
+            reg_by_col[i].push(r as u32);
+        }
+    }
+    let mut acc = vec![0.0f64; n];
+    let mut mark = vec![usize::MAX; n];
+    let mut touched: Vec<usize> = Vec::new();
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    let mut row = Vec::new();
+    let mut val = Vec::new();
+    col_ptr.push(0);
+    for c in 0..n {
+        touched.clear();
+        let mut add = |i: usize, x: f64, touched: &mut Vec<usize>| {
+            if mark[i] != c {
+                mark[i] = c;
+                acc[i] = 0.0;
+                touched.push(i);
+            }
+            acc[i] += x;
+        };
+        for k in design.col_ptr[c] as usize..design.col_ptr[c + 1] as usize {
+            let (r, w) = (design.col_row[k] as usize, design.col_val[k]);
+            for k2 in design.row_ptr[r] as usize..design.row_ptr[r + 1] as usize {
+                add(design.row_col[k2] as usize, w * design.row_val[k2], &mut touched);
+            }
+        }
+        for &r in &reg_by_col[c] {
+            let row_r = &reg[r as usize];
+            let w = row_r.iter().filter(|(i, _)| *i == c).map(|(_, x)| x).sum::<f64>();
+            for &(i, x) in row_r {
+                add(i, w * x, &mut touched);
+            }
+        }
+        // A unit-less floor on the diagonal: 1e-12 of the data's weight per unknown. It only
+        // matters for directions nothing else determines (a 2D table sampled along a curve),
+        // which it sets to zero instead of letting the factorization fail.
+        add(c, 1e-12 * design.rows() as f64 / n as f64, &mut touched);
+        touched.sort_unstable();
+        for &i in &touched {
+            row.push(i);
+            val.push(acc[i]);
+        }
+        col_ptr.push(row.len());
+    }
+    SymCsc { n, col_ptr, row, val }
+}
