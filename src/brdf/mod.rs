@@ -6,4 +6,4 @@ mod analytic;
 mod sphere;
 
 pub use analytic::Analytic;
-pub use sphere::{held_out_views, SpherePixel, SphereView};
+pub use sphere::{held_out_views, painted_views, relative_rms, SpherePixel, SphereView};

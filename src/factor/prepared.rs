@@ -38,6 +38,17 @@ pub struct Prepared {
     pub prepare_s: f64,
 }
 
+impl std::fmt::Debug for Prepared {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Prepared")
+            .field("samples", &self.samples())
+            .field("unknowns", &self.unknowns())
+            .field("solver", &self.solver_kind())
+            .field("prepare_s", &self.prepare_s)
+            .finish()
+    }
+}
+
 pub(crate) enum Solver {
     /// $\mathbf G^{-1}$, dense.
     Dense(Mat<f64>),
