@@ -35,6 +35,7 @@
 pub mod brdf;
 pub mod error;
 pub mod factor;
+pub mod images;
 pub mod material;
 pub mod scene;
 pub mod util;

@@ -3,7 +3,9 @@
 //! them into a sample pattern.
 
 mod analytic;
+mod merl;
 mod sphere;
 
 pub use analytic::Analytic;
+pub use merl::Merl;
 pub use sphere::{held_out_views, painted_views, relative_rms, SpherePixel, SphereView};

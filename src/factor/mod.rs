@@ -26,4 +26,4 @@ pub use mapping::{LogMap, Mapping};
 pub use param::{Domain, Param};
 pub use pattern::{Pattern, Query, Sample};
 pub use prepared::{errors, prepare, Errors, Fit, Prepared, Spectral};
-pub use settings::{defaults, CustomInput, FactorSpec, Input, Method, Settings};
+pub use settings::{defaults, CustomInput, FactorSpec, Input, Method, Settings, MAX_RES_1D, MAX_RES_2D, MAX_UNKNOWNS};

@@ -1,1 +1,163 @@
-//! Materials.
+//! Materials: what a fit produces, a renderer draws and a file stores.
+//!
+//! A material is a sum of terms, each a product of factor tables under a log mapping,
+//! weighted by an optional coefficient texture over the surface (thesis 4.2.2):
+//!
+//! $$ S(l, v, uv) = \sum_k c_k(uv)\, m_k^{-1}\Big(\prod_j p_{kj}(\pi_{kj}(l, v, uv))\Big) $$
+//!
+//! A uniform material is one term without coefficients. Tables are stored as linear-space
+//! values in `f32`, exactly as the shader samples them, so the CPU evaluation here is the
+//! reference the GL renderer is tested against.
+
+mod store;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::factor::system::coordinate;
+use crate::factor::table::{stencil_1d, stencil_2d};
+use crate::factor::{Errors, FactorSpec, Fit, Input, LogMap, Query, Settings};
+
+/// The four kinds of the thesis (DESIGN.md, Material directory).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Kind {
+    /// $p(l)\,q(h)\,r(v)$, the same everywhere.
+    Uniform,
+    /// A uniform product times $s(u, v)$ (thesis 4.2.1).
+    FourFactor,
+    /// Several uniform terms blended by coefficient textures (4.2.2).
+    MaterialMap,
+    /// A material map whose terms are four-factor products (4.3).
+    Hybrid,
+}
+
+/// One factor table of a term.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Factor {
+    /// What the table looks up, and how. Its smoothing weights record how it was fitted.
+    pub spec: FactorSpec,
+    /// Linear-space RGB values at the table's nodes, row by row (`res` or `res`² of them).
+    pub texels: Vec<[f32; 3]>,
+}
+
+/// A coefficient texture over the surface's uv, bilinearly interpolated, nodes at the texel
+/// centres' positions $t_i = i/(M-1)$ like every table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coefficients {
+    pub res: usize,
+    pub texels: Vec<f32>,
+}
+
+/// A product of factors under a log mapping, optionally weighted over the surface.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Term {
+    pub factors: Vec<Factor>,
+    pub map: LogMap,
+    pub coefficients: Option<Coefficients>,
+}
+
+/// Where a material came from: stored in material.json, not needed to render it.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Provenance {
+    /// `brdfpaint <version>`.
+    pub tool: String,
+    /// Input files (paintings, scenes, measured data).
+    #[serde(default)]
+    pub sources: Vec<String>,
+    /// Errors on the fitted samples (thesis Table 5.4's metrics).
+    #[serde(default)]
+    pub errors: Option<Errors>,
+    /// Samples fitted.
+    #[serde(default)]
+    pub samples: usize,
+    /// Seconds spent preparing and solving.
+    #[serde(default)]
+    pub prepare_s: f64,
+    #[serde(default)]
+    pub solve_s: f64,
+}
+
+/// A complete material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub kind: Kind,
+    pub terms: Vec<Term>,
+    pub provenance: Provenance,
+}
+
+impl Factor {
+    /// Linearly (bilinearly) interpolated value at a query, as the shader computes it.
+    pub fn lookup(&self, q: &Query) -> [f64; 3] {
+        let t = coordinate(&self.spec, q);
+        let stencil = if self.spec.dim() == 1 { stencil_1d(t[0], self.spec.res) } else { stencil_2d(t, self.spec.res) };
+        let mut sum = [0.0; 3];
+        for (i, w) in stencil.iter() {
+            for c in 0..3 {
+                sum[c] += w * self.texels[i][c] as f64;
+            }
+        }
+        sum
+    }
+}
+
+impl Coefficients {
+    /// Bilinearly interpolated coefficient at texture coordinates.
+    pub fn lookup(&self, uv: glam::DVec2) -> f64 {
+        let t = crate::factor::param::uv_forward(uv);
+        stencil_2d([t.x, t.y], self.res).iter().map(|(i, w)| w * self.texels[i] as f64).sum()
+    }
+}
+
+impl Term {
+    /// The term's value at a query (before its coefficient).
+    pub fn eval(&self, q: &Query) -> [f64; 3] {
+        let mut prod = [1.0; 3];
+        for f in &self.factors {
+            let x = f.lookup(q);
+            prod = [0, 1, 2].map(|c| prod[c] * x[c]);
+        }
+        [0, 1, 2].map(|c| self.map.inverse(c, prod[c]))
+    }
+}
+
+impl Material {
+    /// A uniform (or four-factor) material from a fit of one product.
+    pub fn from_fit(settings: &Settings, fit: &Fit, provenance: Provenance) -> Result<Material> {
+        if let Some(f) = settings.factors.iter().find(|f| matches!(f.input, Input::Custom(_))) {
+            return Err(Error::input(format!(
+                "factor '{}' uses a custom projection, which a material cannot store",
+                f.input.name()
+            )));
+        }
+        let factors = settings
+            .factors
+            .iter()
+            .zip(&fit.tables)
+            .map(|(spec, t)| Factor { spec: spec.clone(), texels: t.iter().map(|x| x.map(|c| c as f32)).collect() })
+            .collect();
+        let kind = if settings.factors.iter().any(|f| f.input == Input::Uv) { Kind::FourFactor } else { Kind::Uniform };
+        Ok(Material { kind, terms: vec![Term { factors, map: fit.map, coefficients: None }], provenance })
+    }
+
+    /// The shading function $S = f_r \cos\theta_l$ at a query: what a pixel shows under a
+    /// unit white light.
+    pub fn eval(&self, q: &Query) -> [f64; 3] {
+        let mut sum = [0.0; 3];
+        for term in &self.terms {
+            let w = term.coefficients.as_ref().map_or(1.0, |c| c.lookup(q.uv));
+            let x = term.eval(q);
+            for c in 0..3 {
+                sum[c] += w * x[c];
+            }
+        }
+        sum
+    }
+
+    /// Whether any factor or coefficient texture looks up texture coordinates.
+    pub fn needs_uv(&self) -> bool {
+        self.terms.iter().any(|t| t.coefficients.is_some() || t.factors.iter().any(|f| f.spec.input == Input::Uv))
+    }
+}
+
+pub use store::{FORMAT, VERSION};

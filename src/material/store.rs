@@ -1,0 +1,236 @@
+//! The material directory: `material.json` plus one float EXR per table (DESIGN.md,
+//! Material directory; the README documents the format).
+//!
+//! A 1D table of M nodes is an M×1 image, a 2D table M×M with row $y$ of the table as image
+//! row $y$; node $i$ sits at table coordinate $i/(M-1)$, so a GL sampler with linear
+//! filtering reads it at texel coordinate $(t(M-1) + 0.5)/M$. Values are linear.
+//! Coefficient textures store the coefficient in all three channels.
+//!
+//! Saving is atomic: everything is written into a temporary sibling directory that is then
+//! renamed into place, so a failed save leaves the previous material untouched.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::{Coefficients, Factor, Kind, Material, Provenance, Term};
+use crate::error::{Error, Result};
+use crate::factor::{FactorSpec, LogMap};
+use crate::images::Rgb;
+
+/// The `format` field of every material.json.
+pub const FORMAT: &str = "brdfpaint-material";
+/// The version this build writes and reads.
+pub const VERSION: u32 = 1;
+
+#[derive(Serialize, Deserialize)]
+struct FileFactor {
+    #[serde(flatten)]
+    spec: FactorSpec,
+    texture: String,
+}
+
+#[derive(Serialize, Deserialize)]
+struct FileCoefficients {
+    res: usize,
+    texture: String,
+}
+
+#[derive(Serialize, Deserialize)]
+struct FileTerm {
+    mapping: LogMap,
+    factors: Vec<FileFactor>,
+    coefficients: Option<FileCoefficients>,
+}
+
+#[derive(Serialize, Deserialize)]
+struct FileMaterial {
+    format: String,
+    version: u32,
+    kind: Kind,
+    terms: Vec<FileTerm>,
+    #[serde(default)]
+    provenance: Provenance,
+}
+
+/// Just enough of the file to check what it is before parsing the rest.
+#[derive(Deserialize)]
+struct Header {
+    format: Option<String>,
+    version: Option<u32>,
+}
+
+impl Material {
+    /// Save into directory `dir` (created; an existing material there is replaced only once
+    /// the new one is complete).
+    pub fn save(&self, dir: &Path) -> Result<()> {
+        self.validate(dir)?;
+        let tmp = crate::util::temp_sibling(dir);
+        std::fs::create_dir_all(&tmp).map_err(|e| Error::io(&tmp, e))?;
+        let result = self.write_into(&tmp).and_then(|()| replace_dir(&tmp, dir));
+        if result.is_err() {
+            let _ = std::fs::remove_dir_all(&tmp);
+        }
+        result
+    }
+
+    fn write_into(&self, dir: &Path) -> Result<()> {
+        let mut terms = Vec::new();
+        for (k, term) in self.terms.iter().enumerate() {
+            let mut factors = Vec::new();
+            for (j, f) in term.factors.iter().enumerate() {
+                let texture = format!("term{k}-factor{j}-{}.exr", f.spec.input.name());
+                let (w, h) = if f.spec.dim() == 1 { (f.spec.res, 1) } else { (f.spec.res, f.spec.res) };
+                Rgb { width: w, height: h, pixels: f.texels.clone() }.write_exr(&dir.join(&texture))?;
+                factors.push(FileFactor { spec: f.spec.clone(), texture });
+            }
+            let coefficients = match &term.coefficients {
+                Some(c) => {
+                    let texture = format!("term{k}-coefficients.exr");
+                    let pixels = c.texels.iter().map(|&x| [x; 3]).collect();
+                    Rgb { width: c.res, height: c.res, pixels }.write_exr(&dir.join(&texture))?;
+                    Some(FileCoefficients { res: c.res, texture })
+                }
+                None => None,
+            };
+            terms.push(FileTerm { mapping: term.map, factors, coefficients });
+        }
+        let file = FileMaterial {
+            format: FORMAT.into(),
+            version: VERSION,
+            kind: self.kind,
+            terms,
+            provenance: self.provenance.clone(),
+        };
+        let json = serde_json::to_string_pretty(&file).map_err(|e| Error::format(dir, e.to_string()))?;
+        crate::util::write_atomic(&dir.join("material.json"), json.as_bytes())
+    }
+
+    /// Load a material directory (or its material.json).
+    pub fn load(path: &Path) -> Result<Material> {
+        let (dir, json_path) = if path.is_dir() {
+            (path.to_path_buf(), path.join("material.json"))
+        } else {
+            (path.parent().map(Path::to_path_buf).unwrap_or_default(), path.to_path_buf())
+        };
+        let text = std::fs::read_to_string(&json_path).map_err(|e| Error::io(&json_path, e))?;
+        let header: Header =
+            serde_json::from_str(&text).map_err(|e| Error::format(&json_path, format!("not a material: {e}")))?;
+        if header.format.as_deref() != Some(FORMAT) {
+            return Err(Error::format(&json_path, format!("not a brdfpaint material (no \"format\": \"{FORMAT}\")")));
+        }
+        match header.version {
+            Some(VERSION) => {}
+            Some(v) => {
+                return Err(Error::format(
+                    &json_path,
+                    format!("material version {v}; this brdfpaint reads version {VERSION}"),
+                ))
+            }
+            None => return Err(Error::format(&json_path, "material has no version")),
+        }
+        let file: FileMaterial =
+            serde_json::from_str(&text).map_err(|e| Error::format(&json_path, format!("invalid material: {e}")))?;
+        let mut terms = Vec::new();
+        for t in file.terms {
+            let mut factors = Vec::new();
+            for f in t.factors {
+                let path = texture_path(&dir, &json_path, &f.texture)?;
+                let img = Rgb::read_exr(&path)?;
+                let (w, h) = if f.spec.dim() == 1 { (f.spec.res, 1) } else { (f.spec.res, f.spec.res) };
+                if (img.width, img.height) != (w, h) {
+                    return Err(Error::format(
+                        &path,
+                        format!("texture is {}x{} but its factor needs {w}x{h}", img.width, img.height),
+                    ));
+                }
+                factors.push(Factor { spec: f.spec, texels: img.pixels });
+            }
+            let coefficients = match t.coefficients {
+                Some(c) => {
+                    let path = texture_path(&dir, &json_path, &c.texture)?;
+                    let img = Rgb::read_exr(&path)?;
+                    if (img.width, img.height) != (c.res, c.res) {
+                        return Err(Error::format(
+                            &path,
+                            format!("coefficient texture is {}x{} but should be {}x{}", img.width, img.height, c.res, c.res),
+                        ));
+                    }
+                    Some(Coefficients { res: c.res, texels: img.pixels.iter().map(|p| p[0]).collect() })
+                }
+                None => None,
+            };
+            terms.push(Term { factors, map: t.mapping, coefficients });
+        }
+        let material = Material { kind: file.kind, terms, provenance: file.provenance };
+        material.validate(&json_path)?;
+        Ok(material)
+    }
+
+    /// Structural checks shared by save and load: at least one term, resolutions in range,
+    /// texel counts matching, finite non-negative texels, finite mapping constants.
+    fn validate(&self, path: &Path) -> Result<()> {
+        let bad = |why: String| Err(Error::format(path, why));
+        if self.terms.is_empty() {
+            return bad("material has no terms".into());
+        }
+        for (k, t) in self.terms.iter().enumerate() {
+            if t.factors.is_empty() {
+                return bad(format!("term {k} has no factors"));
+            }
+            let settings = crate::factor::Settings { factors: t.factors.iter().map(|f| f.spec.clone()).collect(), method: Default::default() };
+            settings.validate().or_else(|e| bad(format!("term {k}: {e}")))?;
+            for (j, f) in t.factors.iter().enumerate() {
+                if f.texels.len() != f.spec.len() {
+                    return bad(format!("term {k} factor {j}: {} texels for a table of {}", f.texels.len(), f.spec.len()));
+                }
+                if f.texels.iter().flatten().any(|x| !x.is_finite() || *x < 0.0) {
+                    return bad(format!("term {k} factor {j}: table has negative or non-finite values"));
+                }
+            }
+            if t.map.constant().iter().any(|x| !x.is_finite()) {
+                return bad(format!("term {k}: mapping constant is not finite"));
+            }
+            if let Some(c) = &t.coefficients {
+                if c.res < 2 || c.res > crate::factor::MAX_RES_2D || c.texels.len() != c.res * c.res {
+                    return bad(format!("term {k}: coefficient texture of {} texels at resolution {}", c.texels.len(), c.res));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A texture named in material.json, which must stay inside the material directory.
+fn texture_path(dir: &Path, json: &Path, name: &str) -> Result<PathBuf> {
+    let p = Path::new(name);
+    if p.is_absolute() || p.components().any(|c| !matches!(c, std::path::Component::Normal(_))) {
+        return Err(Error::format(json, format!("texture path '{name}' must be a plain file name")));
+    }
+    Ok(dir.join(p))
+}
+
+/// Move a finished temporary directory into place, replacing any previous one.
+fn replace_dir(tmp: &Path, dir: &Path) -> Result<()> {
+    if dir.exists() {
+        if !dir.join("material.json").exists() && std::fs::read_dir(dir).map_or(false, |mut d| d.next().is_some()) {
+            return Err(Error::input(format!(
+                "{} exists and is not a material directory; not overwriting it",
+                dir.display()
+            )));
+        }
+        let old = crate::util::temp_sibling(dir);
+        std::fs::rename(dir, &old).map_err(|e| Error::io(dir, e))?;
+        if let Err(e) = std::fs::rename(tmp, dir) {
+            let _ = std::fs::rename(&old, dir);
+            return Err(Error::io(dir, e));
+        }
+        let _ = std::fs::remove_dir_all(&old);
+        Ok(())
+    } else {
+        if let Some(parent) = dir.parent().filter(|p| !p.as_os_str().is_empty()) {
+            std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
+        }
+        std::fs::rename(tmp, dir).map_err(|e| Error::io(dir, e))
+    }
+}

@@ -1,0 +1,158 @@
+//! Materials: CPU evaluation against the fit, save/load round trips, bad files, and the
+//! MERL path from measured data to a material.
+
+use std::path::Path;
+
+use brdfpaint::brdf::{Analytic, Merl, SphereView};
+use brdfpaint::factor::{prepare, Mapping, Pattern, Query, Settings};
+use brdfpaint::material::{Material, Provenance};
+use glam::{DVec2, DVec3};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+fn fitted(settings: &Settings, model: &Analytic) -> (Material, brdfpaint::factor::Fit) {
+    let pattern = SphereView::new(DVec3::new(-0.5, 0.5, 1.0), 60).pattern();
+    let values = pattern.shade(|l, v| model.shading(l, v));
+    let fit = prepare(&pattern, settings).unwrap().solve(&values, Mapping::Auto).unwrap();
+    let provenance = Provenance { tool: "test".into(), errors: Some(fit.errors), samples: pattern.len(), ..Default::default() };
+    (Material::from_fit(settings, &fit, provenance).unwrap(), fit)
+}
+
+fn random_queries(n: usize) -> Vec<Query> {
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let mut dir = |lower: bool| {
+        let z: f64 = rng.random_range(if lower { -1.0 } else { 0.0 }..1.0);
+        let p: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+        let r = (1.0 - z * z).sqrt();
+        DVec3::new(r * p.cos(), r * p.sin(), z)
+    };
+    (0..n).map(|_| Query { l: dir(true), v: dir(false), uv: DVec2::new(0.3, 0.7) }).collect()
+}
+
+#[test]
+fn material_evaluation_matches_the_fit_to_f32_precision() {
+    for settings in [Settings::default(), Settings::uniform(2, 16), Settings::four_factor(1, 32, 8)] {
+        let (material, fit) = fitted(&settings, &Analytic::suite()[1]);
+        for q in random_queries(500) {
+            let (a, b) = (material.eval(&q), fit.eval(&settings, &q));
+            // f32 tables: relative 1e-6 of the product, which for the offset and inverted
+            // mappings is of the size of their constant, not of the result.
+            let scale = fit.map.constant();
+            for c in 0..3 {
+                assert!((a[c] - b[c]).abs() <= 1e-6 * (b[c].abs() + scale[c]), "{a:?} vs {b:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn save_then_load_gives_back_the_same_material() {
+    let dir = tempfile::tempdir().unwrap();
+    for (k, settings) in [Settings::default(), Settings::uniform(2, 12), Settings::four_factor(1, 16, 8)].iter().enumerate() {
+        let (material, _) = fitted(settings, &Analytic::suite()[4]);
+        let path = dir.path().join(format!("m{k}"));
+        material.save(&path).unwrap();
+        let loaded = Material::load(&path).unwrap();
+        assert!(loaded == material, "{path:?} loads differently");
+        // Loading through the json path works too.
+        assert!(Material::load(&path.join("material.json")).unwrap() == material);
+    }
+}
+
+fn edit_json(dir: &Path, f: impl Fn(&mut serde_json::Value)) {
+    let p = dir.join("material.json");
+    let mut v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+    f(&mut v);
+    std::fs::write(&p, serde_json::to_string(&v).unwrap()).unwrap();
+}
+
+#[test]
+fn bad_material_files_are_one_line_errors() {
+    let root = tempfile::tempdir().unwrap();
+    let (material, _) = fitted(&Settings::default(), &Analytic::suite()[0]);
+    let fresh = |name: &str| {
+        let d = root.path().join(name);
+        material.save(&d).unwrap();
+        d
+    };
+    let err = |d: &Path| {
+        let e = Material::load(d).unwrap_err().to_string();
+        assert!(!e.contains('\n'), "{e}");
+        e
+    };
+    let d = fresh("version");
+    edit_json(&d, |v| v["version"] = 2.into());
+    assert!(err(&d).contains("version 2"));
+    let d = fresh("format");
+    edit_json(&d, |v| v["format"] = "something-else".into());
+    assert!(err(&d).contains("not a brdfpaint material"));
+    let d = fresh("size");
+    edit_json(&d, |v| v["terms"][0]["factors"][1]["res"] = 64.into());
+    assert!(err(&d).contains("needs 64x1"));
+    let d = fresh("missing");
+    std::fs::remove_file(d.join("term0-factor2-view.exr")).unwrap();
+    assert!(err(&d).contains("term0-factor2-view.exr"));
+    let d = fresh("escape");
+    edit_json(&d, |v| v["terms"][0]["factors"][0]["texture"] = "../../etc/passwd".into());
+    assert!(err(&d).contains("plain file name"));
+    let d = fresh("garbage");
+    std::fs::write(d.join("material.json"), b"{ not json").unwrap();
+    assert!(err(&d).contains("material.json"));
+    let d = fresh("corrupt-texture");
+    std::fs::write(d.join("term0-factor0-light.exr"), b"\x76\x2f\x31\x01 truncated").unwrap();
+    assert!(err(&d).contains("term0-factor0-light.exr"));
+    assert!(err(&root.path().join("nowhere")).contains("nowhere"));
+}
+
+#[test]
+fn a_failed_save_leaves_the_previous_material_untouched() {
+    let root = tempfile::tempdir().unwrap();
+    let d = root.path().join("mat");
+    let (good, _) = fitted(&Settings::default(), &Analytic::suite()[0]);
+    good.save(&d).unwrap();
+    let mut bad = good.clone();
+    bad.terms[0].factors[0].texels[3] = [f32::NAN; 3];
+    assert!(bad.save(&d).is_err());
+    assert!(Material::load(&d).unwrap() == good);
+    // No temporary directories are left behind.
+    let entries: Vec<_> = std::fs::read_dir(root.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(entries.len(), 1, "{entries:?}");
+    // A directory that is not a material is never overwritten.
+    let other = root.path().join("notes");
+    std::fs::create_dir(&other).unwrap();
+    std::fs::write(other.join("keep.txt"), b"x").unwrap();
+    assert!(good.save(&other).is_err());
+    assert!(other.join("keep.txt").exists());
+}
+
+#[test]
+fn measured_data_becomes_a_material_that_matches_it_on_new_directions() {
+    // A MERL file tabulated from Blinn-Phong, fitted from its samples, then compared with
+    // the model at random (l, v) pairs that are not on the sampling grid.
+    let model = Analytic::BlinnPhong { diffuse: [0.4, 0.25, 0.1], specular: [0.2, 0.25, 0.3], exponent: 16.0 };
+    let merl = Merl::from_brdf(|l, v| model.brdf(l, v));
+    let samples = merl.samples(16).unwrap();
+    let (pattern, values) = Pattern::from_samples(&samples).unwrap();
+    let settings = Settings::default();
+    let fit = prepare(&pattern, &settings).unwrap().solve(&values, Mapping::Auto).unwrap();
+    let material = Material::from_fit(&settings, &fit, Provenance::default()).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let (mut num, mut den) = (0.0, 0.0);
+    for _ in 0..5000 {
+        let mut dir = || {
+            let z: f64 = rng.random_range(0.05..1.0);
+            let p: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+            DVec3::new((1.0 - z * z).sqrt() * p.cos(), (1.0 - z * z).sqrt() * p.sin(), z)
+        };
+        let q = Query { l: dir(), v: dir(), uv: DVec2::ZERO };
+        let (got, want) = (material.eval(&q), model.shading(q.l, q.v));
+        for c in 0..3 {
+            num += (got[c] - want[c]).powi(2);
+            den += want[c].powi(2);
+        }
+    }
+    let rel = (num / den).sqrt();
+    // Blinn-Phong is an exact p(l) q(h) product; what remains is the MERL binning and
+    // table interpolation.
+    assert!(rel < 0.03, "relative RMS {rel}");
+}
