@@ -32,7 +32,9 @@
 //! assert!(fit.errors.rms_relative < 0.05);
 //! ```
 
+pub mod bench;
 pub mod brdf;
+pub mod cli;
 pub mod error;
 pub mod factor;
 pub mod images;

@@ -1,1 +1,309 @@
-//! Prepared-system cache.
+//! Prepared systems on disk, so a standard scene is prepared once, ever (thesis 3.2.2: the
+//! pseudo-inverse "can be precomputed" for a fixed sampling pattern).
+//!
+//! A file is keyed by the pattern's and the settings' fingerprints and this format's
+//! version. It holds the factored solver only; the sample matrix is rebuilt from the pattern,
+//! which is cheap. A sparse Cholesky factor is stored as its normal matrix and refactored on
+//! load (faer's factor is not serializable), which still skips the assembly.
+//!
+//! Layout, little endian: magic `BRDFPREP`, `u32` version, `u64` key, `u64` payload length,
+//! payload, `u64` FNV-1a checksum of the payload. A file whose magic, version, key, length or
+//! checksum disagrees, or whose sizes do not fit the system, is stale or corrupt: it is
+//! rebuilt and overwritten, never trusted.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use faer::Mat;
+
+use super::prepared::{factor, Prepared, Solver, Spectral};
+use super::system::{Design, SymCsc};
+use super::{Input, Pattern, Settings};
+use crate::error::{Error, Result};
+use crate::util::Fnv;
+
+const MAGIC: &[u8; 8] = b"BRDFPREP";
+const VERSION: u32 = 1;
+
+/// What the cache did.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Outcome {
+    /// Loaded from disk.
+    Hit,
+    /// Not on disk: prepared and stored.
+    Miss,
+    /// On disk but unusable (the reason): prepared again and overwritten.
+    Rebuilt(String),
+    /// Not cacheable (custom projections), or the cache could not be written (the reason).
+    Uncached(String),
+}
+
+/// A directory of prepared systems.
+#[derive(Clone, Debug)]
+pub struct Cache {
+    dir: PathBuf,
+}
+
+impl Cache {
+    pub fn new(dir: impl Into<PathBuf>) -> Cache {
+        Cache { dir: dir.into() }
+    }
+
+    /// `$BRDFPAINT_CACHE`, else `$XDG_CACHE_HOME/brdfpaint`, else `~/.cache/brdfpaint`.
+    pub fn user() -> Option<Cache> {
+        let var = |k: &str| std::env::var_os(k).filter(|v| !v.is_empty()).map(PathBuf::from);
+        var("BRDFPAINT_CACHE")
+            .or_else(|| var("XDG_CACHE_HOME").map(|d| d.join("brdfpaint")))
+            .or_else(|| var("HOME").map(|d| d.join(".cache").join("brdfpaint")))
+            .map(Cache::new)
+    }
+
+    /// The file a pattern and settings are stored in.
+    pub fn path(&self, pattern: &Pattern, settings: &Settings) -> PathBuf {
+        self.dir.join(format!("{:016x}.prep", key(pattern, settings)))
+    }
+
+    /// Load the prepared system for a pattern and settings, or prepare and store it.
+    pub fn prepare(&self, pattern: &Pattern, settings: &Settings) -> Result<(Prepared, Outcome)> {
+        if settings.factors.iter().any(|f| matches!(f.input, Input::Custom(_))) {
+            let p = super::prepare(pattern, settings)?;
+            return Ok((p, Outcome::Uncached("custom projections are not cacheable".into())));
+        }
+        let path = self.path(pattern, settings);
+        let k = key(pattern, settings);
+        let stale = match std::fs::read(&path) {
+            Ok(bytes) => match load(&bytes, k, pattern, settings) {
+                Ok(p) => return Ok((p, Outcome::Hit)),
+                Err(reason) => Some(reason),
+            },
+            Err(_) => None,
+        };
+        let prepared = super::prepare(pattern, settings)?;
+        let written = std::fs::create_dir_all(&self.dir)
+            .map_err(|e| Error::io(&self.dir, e))
+            .and_then(|()| crate::util::write_atomic(&path, &store(&prepared, k)));
+        let outcome = match (written, stale) {
+            (Err(e), _) => Outcome::Uncached(e.to_string()),
+            (Ok(()), Some(reason)) => Outcome::Rebuilt(reason),
+            (Ok(()), None) => Outcome::Miss,
+        };
+        Ok((prepared, outcome))
+    }
+}
+
+fn key(pattern: &Pattern, settings: &Settings) -> u64 {
+    let mut h = Fnv::new();
+    h.write(MAGIC);
+    h.write(&VERSION.to_le_bytes());
+    h.write(env!("CARGO_PKG_VERSION").as_bytes());
+    h.write(&pattern.fingerprint().to_le_bytes());
+    h.write(&settings.fingerprint().to_le_bytes());
+    h.finish()
+}
+
+fn store(prepared: &Prepared, key: u64) -> Vec<u8> {
+    let (_, _, solver) = prepared.parts();
+    let mut p = Writer::default();
+    p.f64(prepared.prepare_s);
+    match solver {
+        Solver::Dense(inv) => {
+            p.u64(0);
+            p.mat(inv);
+        }
+        Solver::Sparse(_, g) => {
+            p.u64(1);
+            p.u64(g.n as u64);
+            p.u64(g.row.len() as u64);
+            g.col_ptr.iter().for_each(|&x| p.u64(x as u64));
+            g.row.iter().for_each(|&x| p.u64(x as u64));
+            g.val.iter().for_each(|&x| p.f64(x));
+        }
+        Solver::Spectral(s) => {
+            p.u64(2);
+            p.mat(&s.basis);
+            s.singular.iter().for_each(|&x| p.f64(x));
+            s.weight.iter().for_each(|&x| p.f64(x));
+        }
+    }
+    let payload = p.0;
+    let mut out = Vec::with_capacity(payload.len() + 36);
+    out.extend_from_slice(MAGIC);
+    out.extend_from_slice(&VERSION.to_le_bytes());
+    out.extend_from_slice(&key.to_le_bytes());
+    out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+    out.extend_from_slice(&payload);
+    let mut h = Fnv::new();
+    h.write(&payload);
+    out.extend_from_slice(&h.finish().to_le_bytes());
+    out
+}
+
+/// Parse and check a cache file; the error is why it cannot be used.
+fn load(bytes: &[u8], key: u64, pattern: &Pattern, settings: &Settings) -> std::result::Result<Prepared, String> {
+    let start = Instant::now();
+    if bytes.len() < 36 || &bytes[..8] != MAGIC {
+        return Err("not a prepared-system file".into());
+    }
+    let mut r = Reader(&bytes[8..]);
+    if r.u32()? != VERSION {
+        return Err("written by another version".into());
+    }
+    if r.u64()? != key {
+        return Err("key does not match".into());
+    }
+    let len = r.u64()? as usize;
+    if r.0.len() != len.checked_add(8).ok_or("bad length")? {
+        return Err("truncated or oversized".into());
+    }
+    let (payload, tail) = r.0.split_at(len);
+    let mut h = Fnv::new();
+    h.write(payload);
+    if Reader(tail).u64()? != h.finish() {
+        return Err("checksum mismatch".into());
+    }
+    let design = Design::new(pattern, settings).map_err(|e| e.to_string())?;
+    let n = design.n;
+    let mut r = Reader(payload);
+    let _original_prepare_s = r.f64()?;
+    let solver = match r.u64()? {
+        0 => Solver::Dense(r.mat(n)?),
+        1 => {
+            let (gn, nnz) = (r.u64()? as usize, r.u64()? as usize);
+            if gn != n || nnz > n.saturating_mul(n) {
+                return Err("sizes do not fit the system".into());
+            }
+            let col_ptr = (0..=n).map(|_| r.u64().map(|x| x as usize)).collect::<std::result::Result<Vec<_>, _>>()?;
+            let row = (0..nnz).map(|_| r.u64().map(|x| x as usize)).collect::<std::result::Result<Vec<_>, _>>()?;
+            let val = (0..nnz).map(|_| r.f64()).collect::<std::result::Result<Vec<_>, _>>()?;
+            let sorted = col_ptr.windows(2).all(|w| w[0] <= w[1]) && col_ptr[n] == nnz && row.iter().all(|&i| i < n);
+            if !sorted {
+                return Err("malformed sparse matrix".into());
+            }
+            factor(&SymCsc { n, col_ptr, row, val }, settings.method).map_err(|e| e.to_string())?
+        }
+        2 => {
+            let basis = r.mat(n)?;
+            let singular = (0..n).map(|_| r.f64()).collect::<std::result::Result<Vec<_>, _>>()?;
+            let weight = (0..n).map(|_| r.f64()).collect::<std::result::Result<Vec<_>, _>>()?;
+            Solver::Spectral(Spectral::with_weights(basis, singular, weight))
+        }
+        _ => return Err("unknown solver".into()),
+    };
+    if !r.0.is_empty() {
+        return Err("trailing data".into());
+    }
+    Ok(Prepared::from_parts(settings.clone(), design, solver, start.elapsed().as_secs_f64()))
+}
+
+#[derive(Default)]
+struct Writer(Vec<u8>);
+
+impl Writer {
+    fn u64(&mut self, x: u64) {
+        self.0.extend_from_slice(&x.to_le_bytes());
+    }
+    fn f64(&mut self, x: f64) {
+        self.0.extend_from_slice(&x.to_le_bytes());
+    }
+    fn mat(&mut self, m: &Mat<f64>) {
+        self.u64(m.nrows() as u64);
+        for c in 0..m.ncols() {
+            for r in 0..m.nrows() {
+                self.f64(m[(r, c)]);
+            }
+        }
+    }
+}
+
+struct Reader<'a>(&'a [u8]);
+
+impl Reader<'_> {
+    fn take<const N: usize>(&mut self) -> std::result::Result<[u8; N], String> {
+        if self.0.len() < N {
+            return Err("truncated".into());
+        }
+        let (a, b) = self.0.split_at(N);
+        self.0 = b;
+        Ok(a.try_into().expect("split at N"))
+    }
+    fn u32(&mut self) -> std::result::Result<u32, String> {
+        self.take::<4>().map(u32::from_le_bytes)
+    }
+    fn u64(&mut self) -> std::result::Result<u64, String> {
+        self.take::<8>().map(u64::from_le_bytes)
+    }
+    fn f64(&mut self) -> std::result::Result<f64, String> {
+        self.take::<8>().map(f64::from_le_bytes)
+    }
+    /// A square n × n matrix, column-major, preceded by its size.
+    fn mat(&mut self, n: usize) -> std::result::Result<Mat<f64>, String> {
+        if self.u64()? as usize != n || self.0.len() < n * n * 8 {
+            return Err("matrix size does not fit the system".into());
+        }
+        let mut m = Mat::zeros(n, n);
+        for c in 0..n {
+            for r in 0..n {
+                m[(r, c)] = self.f64()?;
+            }
+        }
+        Ok(m)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::brdf::{Analytic, SphereView};
+    use crate::factor::{Mapping, Method};
+    use glam::DVec3;
+
+    fn case(settings: &Settings) {
+        let dir = tempfile::tempdir().unwrap();
+        let cache = Cache::new(dir.path().join("c"));
+        let pattern = SphereView::new(DVec3::new(-0.5, 0.5, 1.0), 40).pattern();
+        let values = pattern.shade(|l, v| Analytic::suite()[2].shading(l, v));
+        let (fresh, o) = cache.prepare(&pattern, settings).unwrap();
+        assert_eq!(o, Outcome::Miss);
+        let (cached, o) = cache.prepare(&pattern, settings).unwrap();
+        assert_eq!(o, Outcome::Hit);
+        assert_eq!(fresh.solver_kind(), cached.solver_kind());
+        let (a, b) = (fresh.solve(&values, Mapping::Auto).unwrap(), cached.solve(&values, Mapping::Auto).unwrap());
+        assert_eq!(a.tables, b.tables, "a cached system solves exactly as a fresh one");
+        // Corrupt one payload byte: the checksum catches it and the file is rebuilt.
+        let path = cache.path(&pattern, settings);
+        let mut bytes = std::fs::read(&path).unwrap();
+        let mid = bytes.len() / 2;
+        bytes[mid] ^= 0x40;
+        std::fs::write(&path, &bytes).unwrap();
+        let (_, o) = cache.prepare(&pattern, settings).unwrap();
+        assert_eq!(o, Outcome::Rebuilt("checksum mismatch".into()));
+        // Truncated.
+        std::fs::write(&path, &bytes[..bytes.len() - 100]).unwrap();
+        assert!(matches!(cache.prepare(&pattern, settings).unwrap().1, Outcome::Rebuilt(_)));
+        // After a rebuild it is a hit again.
+        assert_eq!(cache.prepare(&pattern, settings).unwrap().1, Outcome::Hit);
+        // Another pattern is another file.
+        let other = SphereView::new(DVec3::new(0.5, 0.5, 1.0), 40).pattern();
+        assert_ne!(cache.path(&other, settings), path);
+    }
+
+    #[test]
+    fn dense_systems_round_trip_and_corruption_is_rebuilt() {
+        case(&Settings::default());
+    }
+
+    #[test]
+    fn sparse_systems_round_trip_and_corruption_is_rebuilt() {
+        let s = Settings::four_factor(1, 32, 48);
+        let dir = tempfile::tempdir().unwrap();
+        let pattern = SphereView::new(DVec3::Z, 40).pattern();
+        let (p, _) = Cache::new(dir.path()).prepare(&pattern, &s).unwrap();
+        assert_eq!(p.solver_kind(), "sparse", "this case must exercise the sparse path");
+        case(&s);
+    }
+
+    #[test]
+    fn spectral_systems_round_trip() {
+        case(&Settings { method: Method::DampedSvd { alpha: 1e-3 }, ..Settings::uniform(1, 24) });
+    }
+}

@@ -110,6 +110,17 @@ impl LogMap {
         }
     }
 
+    /// [`LogMap::forward`] over a slice of one channel's values, in place. Written as two
+    /// flat loops so the logarithm vectorizes.
+    pub fn forward_all(&self, c: usize, x: &mut [f64]) {
+        match *self {
+            LogMap::Identity { floor } => x.iter_mut().for_each(|v| *v = v.max(floor[c])),
+            LogMap::Offset { a } => x.iter_mut().for_each(|v| *v += a[c]),
+            LogMap::Inverted { a } => x.iter_mut().for_each(|v| *v = (a[c] - *v).max(a[c] * 1e-9)),
+        }
+        ln_all(x);
+    }
+
     /// Linear value from the product of the factors, clamped at zero (eq. 3.14, 3.16).
     #[inline]
     pub fn inverse(&self, c: usize, product: f64) -> f64 {
@@ -168,13 +179,32 @@ impl Mapping {
     }
 }
 
+/// [`fast_ln`] over a slice, in place: with AVX2 and FMA where the CPU has them (four lanes
+/// instead of SSE2's two; the log is most of a refit's time), else portable code.
+pub fn ln_all(x: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+        // SAFETY: the CPU has AVX2 and FMA, checked just above.
+        unsafe { ln_all_avx2(x) };
+        return;
+    }
+    x.iter_mut().for_each(|v| *v = fast_ln(*v));
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn ln_all_avx2(x: &mut [f64]) {
+    x.iter_mut().for_each(|v| *v = fast_ln(*v));
+}
+
 /// Natural logarithm for positive normal numbers, written so the compiler vectorizes it.
-/// Relative error below 1e-13 over the positive normal range (tested against `f64::ln`).
+/// Absolute error below 2e-11 over the positive normal range (tested against `f64::ln`):
+/// far below the precision of any painting, and cheaper than a full-precision log.
 ///
 /// $x = m \cdot 2^e$ with $m \in [\sqrt{1/2}, \sqrt 2)$; then with $s = (m-1)/(m+1)$,
 /// $\ln m = 2 \operatorname{artanh} s = 2(s + s^3/3 + s^5/5 + \dots)$, and $|s| < 0.172$
 /// makes the series converge fast.
-#[inline]
+#[inline(always)]
 pub fn fast_ln(x: f64) -> f64 {
     const SQRT_2: f64 = std::f64::consts::SQRT_2;
     let bits = x.to_bits();
@@ -185,10 +215,8 @@ pub fn fast_ln(x: f64) -> f64 {
     let e = (e + big as i64) as f64;
     let s = (m - 1.0) / (m + 1.0);
     let s2 = s * s;
-    let series = 1.0
-        + s2 * (1.0 / 3.0
-            + s2 * (1.0 / 5.0
-                + s2 * (1.0 / 7.0 + s2 * (1.0 / 9.0 + s2 * (1.0 / 11.0 + s2 * (1.0 / 13.0 + s2 / 15.0))))));
+    // Six terms: the first omitted one, $2 s^{13}/13$, is below $2 \cdot 10^{-11}$.
+    let series = 1.0 + s2 * (1.0 / 3.0 + s2 * (1.0 / 5.0 + s2 * (1.0 / 7.0 + s2 * (1.0 / 9.0 + s2 * (1.0 / 11.0)))));
     e * std::f64::consts::LN_2 + 2.0 * s * series
 }
 
@@ -202,8 +230,8 @@ mod tests {
         while x < 1e300 {
             for k in [1.0, 1.2345, 1.41, 1.4143, 1.7, 1.999] {
                 let y = x * k;
-                let err = (fast_ln(y) - y.ln()).abs() / y.ln().abs().max(1.0);
-                assert!(err < 1e-13, "ln({y}): {} vs {}", fast_ln(y), y.ln());
+                let err = (fast_ln(y) - y.ln()).abs();
+                assert!(err < 2e-11, "ln({y}): {} vs {}", fast_ln(y), y.ln());
             }
             x *= 7.3;
         }
@@ -216,7 +244,8 @@ mod tests {
             for c in 0..3 {
                 for f in [0.01, 0.2, 0.49] {
                     let back = map.inverse(c, map.forward(c, f).exp());
-                    assert!((back - f).abs() < 1e-12, "{map:?} c{c} f {f}: {back}");
+                    // fast_ln is accurate to 2e-11 absolute, so the round trip to about 1e-10.
+                    assert!((back - f).abs() < 1e-10, "{map:?} c{c} f {f}: {back}");
                 }
             }
         }

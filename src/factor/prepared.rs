@@ -123,10 +123,17 @@ impl Spectral {
                 }
             })
             .collect();
+        Ok(Spectral::with_weights(basis, singular, weight))
+    }
+
+    /// Assemble from a basis and its weights, forming the operator $\mathbf V
+    /// \operatorname{diag}(w) \mathbf V^\top$.
+    pub(crate) fn with_weights(basis: Mat<f64>, singular: Vec<f64>, weight: Vec<f64>) -> Spectral {
+        let n = basis.nrows();
         let scaled = Mat::from_fn(n, n, |r, c| basis[(r, c)] * weight[c]);
         let mut operator = Mat::zeros(n, n);
         faer::linalg::matmul::matmul(&mut operator, Accum::Replace, &scaled, basis.transpose(), 1.0, Par::rayon(0));
-        Ok(Spectral { basis, singular, weight, operator })
+        Spectral { basis, singular, weight, operator }
     }
 
     /// Coefficients $\beta$ (eq. 3.11) of a right-hand side $\mathbf b = \mathbf A^\top
@@ -214,17 +221,27 @@ impl Prepared {
                 self.samples()
             )));
         }
-        let mut max = [0.0f64; 3];
-        for (k, v) in values.iter().enumerate() {
+        // A branch-free pass first (it vectorizes); only a failure pays for finding the
+        // offending sample, so the message can name it.
+        let (mut min, mut max, mut probe) = ([0.0f64; 3], [0.0f64; 3], [0.0f64; 3]);
+        for v in values {
             for c in 0..3 {
-                let x = v[c];
-                if !x.is_finite() {
+                // Selects rather than f64::min/max, whose NaN rules keep this loop from
+                // vectorizing. `probe` becomes NaN if any value is NaN or infinite.
+                min[c] = if v[c] < min[c] { v[c] } else { min[c] };
+                max[c] = if v[c] > max[c] { v[c] } else { max[c] };
+                probe[c] += v[c] * 0.0;
+            }
+        }
+        let bad = (0..3).any(|c| min[c] < 0.0 || probe[c].is_nan());
+        if bad {
+            for (k, v) in values.iter().enumerate() {
+                if let Some(&x) = v.iter().find(|x| !x.is_finite()) {
                     return Err(Error::input(format!("sample {k} has a non-finite value {x}")));
                 }
-                if x < 0.0 {
+                if let Some(&x) = v.iter().find(|&&x| x < 0.0) {
                     return Err(Error::input(format!("sample {k} has a negative value {x}")));
                 }
-                max[c] = max[c].max(x);
             }
         }
         if max.iter().all(|&m| m == 0.0) {
@@ -235,16 +252,14 @@ impl Prepared {
 
     /// The right-hand side $\mathbf b = \mathbf A^\top \tilde{\mathbf f}$ of mapped values.
     pub fn rhs(&self, values: &[[f64; 3]], map: &LogMap) -> Mat<f64> {
-        let logs: Vec<[f64; 3]> =
-            values.iter().map(|v| [map.forward(0, v[0]), map.forward(1, v[1]), map.forward(2, v[2])]).collect();
-        let mut b = vec![[0.0; 3]; self.design.n];
-        self.design.transpose_apply(&logs, &mut b);
+        let mut b = vec![[0.0; 4]; self.design.n];
+        self.design.transpose_apply(values, &|c, x| map.forward_all(c, x), &mut b);
         Mat::from_fn(self.design.n, 3, |r, c| b[r][c])
     }
 
     /// Log-space tables $\tilde{\mathbf y}$ (n × 3) for a right-hand side.
     pub fn apply(&self, b: &Mat<f64>) -> Mat<f64> {
-        match &self.solver {
+        let y = match &self.solver {
             Solver::Dense(inv) => {
                 let mut y = Mat::zeros(self.design.n, 3);
                 let par = if self.design.n > 1500 { Par::rayon(0) } else { Par::Seq };
@@ -257,7 +272,9 @@ impl Prepared {
                 y
             }
             Solver::Spectral(s) => &s.operator * b,
-        }
+        };
+        crate::util::clear_upper_vector_state();
+        y
     }
 
     /// Solve for one mapping without computing errors: the fast path of live painting.
@@ -367,9 +384,33 @@ pub fn errors(predicted: &[[f64; 3]], values: &[[f64; 3]]) -> Errors {
 pub fn prepare(pattern: &Pattern, settings: &Settings) -> Result<Prepared> {
     let start = Instant::now();
     let design = Design::new(pattern, settings)?;
-    let g = system::normal_matrix(&design, settings);
-    let solver = factor(&g, settings.method)?;
-    Ok(Prepared { settings: settings.clone(), design, solver, prepare_s: start.elapsed().as_secs_f64() })
+    let bar = progress_bar(&design);
+    let g = system::normal_matrix(&design, settings, bar.as_ref());
+    if let Some(bar) = &bar {
+        bar.set_message("factoring");
+        bar.enable_steady_tick(std::time::Duration::from_millis(100));
+    }
+    let solver = factor(&g, settings.method);
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    Ok(Prepared { settings: settings.clone(), design, solver: solver?, prepare_s: start.elapsed().as_secs_f64() })
+}
+
+/// Unknowns from which a prepare takes long enough (a second or more) to deserve a bar.
+const PROGRESS_UNKNOWNS: usize = 8192;
+
+/// A progress bar over the normal matrix's columns, on a terminal and for large systems
+/// only (DESIGN.md: long work shows progress, and stays quiet when output is not a terminal).
+fn progress_bar(design: &Design) -> Option<indicatif::ProgressBar> {
+    if design.n < PROGRESS_UNKNOWNS || !crate::util::progress_enabled() {
+        return None;
+    }
+    let bar = indicatif::ProgressBar::new(design.n as u64);
+    let style = indicatif::ProgressStyle::with_template("preparing {bar:30} {pos}/{len} unknowns {msg} {elapsed}")
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
+    bar.set_style(style);
+    Some(bar)
 }
 
 /// The error for a Cholesky factorization that met a non-positive pivot.

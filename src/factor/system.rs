@@ -146,28 +146,100 @@ impl Design {
         self.row_ptr.len() - 1
     }
 
-    /// $\mathbf b = \mathbf A^\top \tilde{\mathbf f}$ for three channels (`logs` is N × 3,
-    /// sample-major), written to `out` (n × 3, unknown-major).
-    pub fn transpose_apply(&self, logs: &[[f64; 3]], out: &mut [[f64; 3]]) {
+    /// $\mathbf b = \mathbf A^\top \tilde{\mathbf f}$ for three channels, with the log
+    /// mapping fused in: `logs(c, x)` replaces `x` (linear values of channel `c`) with their
+    /// log-space values. `out[i]` holds unknown `i`'s three channels (and a zero pad lane).
+    ///
+    /// Samples are processed in chunks whose values are mapped in one tight loop per channel
+    /// (so the logarithm vectorizes) and then scattered into `out` row by row, all three
+    /// channels in one 4-lane operation; `out` is small enough to stay in cache. Large
+    /// patterns split the chunks across threads, each with its own partial sum.
+    pub fn transpose_apply(&self, values: &[[f64; 3]], logs: &(dyn Fn(usize, &mut [f64]) + Sync), out: &mut [[f64; 4]]) {
         use rayon::prelude::*;
-        let gather = |c: usize, o: &mut [f64; 3]| {
-            let mut acc = [0.0; 3];
-            for k in self.col_ptr[c] as usize..self.col_ptr[c + 1] as usize {
-                let w = self.col_val[k];
-                let f = &logs[self.col_row[k] as usize];
-                acc[0] += w * f[0];
-                acc[1] += w * f[1];
-                acc[2] += w * f[2];
+        let n = self.n;
+        out.iter_mut().for_each(|x| *x = [0.0; 4]);
+        // Threads pay off only for large patterns: rayon's fork and the partial sums cost
+        // tens of microseconds.
+        if values.len() < 32 * SCATTER_CHUNK {
+            for (k, vals) in values.chunks(SCATTER_CHUNK).enumerate() {
+                self.scatter(k * SCATTER_CHUNK, vals, logs, out);
             }
-            *o = acc;
-        };
-        // Threads only pay off for large systems; rayon's fork costs a few microseconds.
-        if self.col_row.len() > 200_000 {
-            out.par_iter_mut().enumerate().with_min_len(64).for_each(|(c, o)| gather(c, o));
-        } else {
-            out.iter_mut().enumerate().for_each(|(c, o)| gather(c, o));
+            return;
+        }
+        let per_thread = values.len().div_ceil(rayon::current_num_threads().max(1)).div_ceil(SCATTER_CHUNK) * SCATTER_CHUNK;
+        let partials: Vec<Vec<[f64; 4]>> = values
+            .par_chunks(per_thread)
+            .enumerate()
+            .map(|(t, part)| {
+                let mut acc = vec![[0.0; 4]; n];
+                for (k, vals) in part.chunks(SCATTER_CHUNK).enumerate() {
+                    self.scatter(t * per_thread + k * SCATTER_CHUNK, vals, logs, &mut acc);
+                }
+                acc
+            })
+            .collect();
+        for p in partials {
+            for (o, x) in out.iter_mut().zip(p) {
+                for c in 0..4 {
+                    o[c] += x[c];
+                }
+            }
         }
     }
+
+    /// One chunk of [`Design::transpose_apply`]: at most [`SCATTER_CHUNK`] samples starting
+    /// at row `first`.
+    fn scatter(&self, first: usize, vals: &[[f64; 3]], logs: &(dyn Fn(usize, &mut [f64]) + Sync), acc: &mut [[f64; 4]]) {
+        let mut channel = [0.0f64; SCATTER_CHUNK];
+        let mut f = [[0.0f64; 4]; SCATTER_CHUNK];
+        for c in 0..3 {
+            for (x, v) in channel.iter_mut().zip(vals) {
+                *x = v[c];
+            }
+            logs(c, &mut channel[..vals.len()]);
+            for (dst, x) in f.iter_mut().zip(&channel[..vals.len()]) {
+                dst[c] = *x;
+            }
+        }
+        let rows = RowSpan { ptr: &self.row_ptr[first..=first + vals.len()], col: &self.row_col, val: &self.row_val };
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+            // SAFETY: the CPU has AVX2 and FMA, checked just above.
+            unsafe { scatter_avx2(&rows, &f[..vals.len()], acc) };
+            return;
+        }
+        scatter_rows(&rows, &f[..vals.len()], acc);
+    }
+}
+
+/// Samples per chunk of the fused log-and-scatter.
+const SCATTER_CHUNK: usize = 256;
+
+/// A run of consecutive rows of the design: `ptr` has one more entry than there are rows.
+struct RowSpan<'a> {
+    ptr: &'a [u32],
+    col: &'a [u32],
+    val: &'a [f64],
+}
+
+/// `acc[col] += w · f[row]` over the rows' entries, all lanes at once.
+#[inline(always)]
+fn scatter_rows(rows: &RowSpan<'_>, f: &[[f64; 4]], acc: &mut [[f64; 4]]) {
+    for (i, fi) in f.iter().enumerate() {
+        let span = rows.ptr[i] as usize..rows.ptr[i + 1] as usize;
+        for (&col, &w) in rows.col[span.clone()].iter().zip(&rows.val[span]) {
+            let a = &mut acc[col as usize];
+            for c in 0..4 {
+                a[c] += w * fi[c];
+            }
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn scatter_avx2(rows: &RowSpan<'_>, f: &[[f64; 4]], acc: &mut [[f64; 4]]) {
+    scatter_rows(rows, f, acc);
 }
 
 /// A symmetric sparse matrix in compressed columns (full storage, rows sorted).
@@ -199,8 +271,9 @@ impl SymCsc {
 
 /// Regularization rows of every factor, in global unknown numbering, each with its weight
 /// already applied (so $\mathbf R = \sum_{\text{rows}} \mathbf r \mathbf r^\top$).
-fn regularization(settings: &Settings, offsets: &[usize], samples: usize) -> Rows {
-    let n_samples = samples as f64;
+fn regularization(settings: &Settings, design: &Design) -> Rows {
+    let offsets = &design.offsets;
+    let n_samples = design.rows() as f64;
     let mut out: Rows = Vec::new();
     let mut push = |rows: Rows, scale: f64, offset: usize| {
         for r in rows {
@@ -223,11 +296,15 @@ fn regularization(settings: &Settings, offsets: &[usize], samples: usize) -> Row
             push((0..f.len()).map(|i| vec![(i, s)]).collect(), 1.0, offsets[j]);
         }
         // Gauge: a constant moved from one factor to another changes nothing (the exact null
-        // directions of the log-space system). Fixing the mean of every factor but the first
-        // removes them without biasing the fit. A ridged factor has no null direction.
+        // directions of the log-space system: data, smoothing and damping rows all ignore a
+        // constant). Pinning one node of every factor but the first to log 1 = 0 removes
+        // them without biasing the fit, and, unlike fixing a factor's mean, adds no dense
+        // block to G. The pinned node is the one the samples weigh most. A ridged factor
+        // has no null direction.
         if j > 0 && f.ridge == 0.0 {
-            let s = n_samples.sqrt() / f.len() as f64;
-            push(vec![(0..f.len()).map(|i| (i, s)).collect()], 1.0, offsets[j]);
+            let weight = |c: usize| design.col_val[design.col_ptr[c] as usize..design.col_ptr[c + 1] as usize].iter().sum::<f64>();
+            let anchor = (0..f.len()).max_by(|&a, &b| weight(offsets[j] + a).total_cmp(&weight(offsets[j] + b))).unwrap_or(0);
+            push(vec![vec![(anchor, n_samples.sqrt() / f.len() as f64)]], 1.0, offsets[j]);
         }
     }
     out
@@ -235,9 +312,10 @@ fn regularization(settings: &Settings, offsets: &[usize], samples: usize) -> Row
 
 /// The normal matrix $\mathbf G = \mathbf A^\top \mathbf A + \mathbf R$ in sparse symmetric
 /// form, by Gustavson's column-by-column product with a dense accumulator.
-pub fn normal_matrix(design: &Design, settings: &Settings) -> SymCsc {
+/// `progress`, when given, advances by one per column.
+pub fn normal_matrix(design: &Design, settings: &Settings, progress: Option<&indicatif::ProgressBar>) -> SymCsc {
     let n = design.n;
-    let reg = regularization(settings, &design.offsets, design.rows());
+    let reg = regularization(settings, design);
     // Regularization rows grouped by the columns they touch.
     let mut reg_by_col: Vec<Vec<u32>> = vec![Vec::new(); n];
     for (r, row) in reg.iter().enumerate() {
@@ -253,6 +331,9 @@ pub fn normal_matrix(design: &Design, settings: &Settings) -> SymCsc {
     let mut val = Vec::new();
     col_ptr.push(0);
     for c in 0..n {
+        if let Some(bar) = progress.filter(|_| c % 256 == 0) {
+            bar.set_position(c as u64);
+        }
         touched.clear();
         let mut add = |i: usize, x: f64, touched: &mut Vec<usize>| {
             if mark[i] != c {

@@ -1,0 +1,179 @@
+//! `brdfpaint bench`: the thesis's timing tables reproduced on this machine, with the
+//! thesis's seconds beside ours (DESIGN.md, Command line).
+//!
+//! - Table 5.1: three 1D factors, M ∈ {32, 64, 96, 128}, 7.9k samples, and the same with a
+//!   fourth 32×32 uv factor.
+//! - Table 5.2: three 2D factors, M ∈ {16, 32}, at 317, 10k and 100k samples; and the
+//!   thesis's 4-factor column (three 1D factors of 32 and a uv factor of M², 317 samples).
+//!
+//! Samples are pixels of a painted sphere view (`SphereView`), so the patterns are those of a
+//! real painting. `prepare_s` assembles and factors the system; `solve_s` maps RGB values to
+//! log space, solves, and returns linear-space tables for one mapping: the work of one refit
+//! during painting. The thesis's "fast factorization" column measured the same step.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::brdf::{Analytic, SphereView};
+use crate::error::Result;
+use crate::factor::{prepare, LogMap, Pattern, Settings};
+
+/// One measured case: the fields of DESIGN.md's `bench --json` that apply.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Case {
+    pub case: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub samples: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub res: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unknowns: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub terms: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub prepare_s: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub solve_s: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_s: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ratio: Option<f64>,
+    /// The thesis's figure for the step we time as `solve_s` (or `time_s`), where it has one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub thesis_s: Option<f64>,
+    /// The thesis's pre-inversion (SVD) time, beside our `prepare_s`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub thesis_prepare_s: Option<f64>,
+}
+
+/// The median of repeated timings of `f`: at least `min_runs`, and more until `budget_s`
+/// seconds have passed (at most 1000).
+pub fn median_time(min_runs: usize, budget_s: f64, mut f: impl FnMut()) -> f64 {
+    let start = Instant::now();
+    let mut times = Vec::new();
+    while times.len() < min_runs || (start.elapsed().as_secs_f64() < budget_s && times.len() < 1000) {
+        let t = Instant::now();
+        f();
+        times.push(t.elapsed().as_secs_f64());
+    }
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
+/// A sphere view with about `target` samples.
+fn sphere_pattern(target: usize) -> Pattern {
+    // The eroded disc of a res² view holds about π (res/2 − 1)² pixels.
+    let res = (2.0 * ((target as f64 / std::f64::consts::PI).sqrt() + 1.0)).round() as usize;
+    SphereView::new(glam::DVec3::new(-0.5, 0.5, 1.0), res.max(4)).pattern()
+}
+
+/// Time prepare and solve for one case.
+fn measure(name: String, pattern: &Pattern, settings: &Settings, res: usize, quick: bool) -> Result<Case> {
+    let model = Analytic::suite()[2].clone();
+    let values = pattern.shade(|l, v| model.shading(l, v));
+    let mut prepared = None;
+    let runs = if quick { 1 } else { 3 };
+    let mut failure = None;
+    let prepare_s = median_time(runs, 0.0, || match prepare(pattern, settings) {
+        Ok(p) => prepared = Some(p),
+        Err(e) => failure = Some(e),
+    });
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    let prepared = prepared.expect("prepare ran at least once");
+    let map = LogMap::Offset { a: [0.05; 3] };
+    let budget = if quick { 0.05 } else { 0.5 };
+    let mut result = Ok(());
+    let solve_s = median_time(5, budget, || {
+        if let Err(e) = prepared.solve_tables(&values, &map) {
+            result = Err(e);
+        }
+    });
+    result?;
+    Ok(Case {
+        case: name,
+        samples: Some(pattern.len()),
+        res: Some(res),
+        unknowns: Some(prepared.unknowns()),
+        prepare_s: Some(prepare_s),
+        solve_s: Some(solve_s),
+        ..Default::default()
+    })
+}
+
+/// The factorization cases of thesis Tables 5.1 and 5.2. `quick` shortens the timing
+/// loops (for tests and a first look), not the cases.
+pub fn factor_cases(quick: bool) -> Result<Vec<Case>> {
+    let mut out = Vec::new();
+    let p7884 = sphere_pattern(7884);
+    // Table 5.1: (res, SVD 3-factor, SVD 4-factor, fast 3-factor, fast 4-factor).
+    let t51 = [
+        (32, 4.26, 247.36, 0.1834, 1.2649),
+        (64, 11.08, 330.04, 0.2868, 1.3207),
+        (96, 21.58, 397.37, 0.3842, 1.5919),
+        (128, 38.06, 506.11, 0.4375, 1.6877),
+    ];
+    for (res, svd3, svd4, fast3, fast4) in t51 {
+        let mut c = measure(format!("table5.1 3x1D M={res}"), &p7884, &Settings::uniform(1, res), res, quick)?;
+        c.thesis_s = Some(fast3);
+        c.thesis_prepare_s = Some(svd3);
+        out.push(c);
+        let mut c = measure(format!("table5.1 4-factor M={res} uv=32"), &p7884, &Settings::four_factor(1, res, 32), res, quick)?;
+        c.thesis_s = Some(fast4);
+        c.thesis_prepare_s = Some(svd4);
+        out.push(c);
+    }
+    // Table 5.2, 3-factor column: (res, SVD, fast) at 317 samples; 100m 12s = 6072 s.
+    let t52 = [(16, 103.0, 0.0308), (32, 6072.0, 0.1048)];
+    for target in [317, 10_000, 100_000] {
+        let pattern = sphere_pattern(target);
+        for (res, svd, fast) in t52 {
+            let mut c = measure(
+                format!("table5.2 3x2D M={res} {}k samples", (target as f64 / 1000.0).round()),
+                &pattern,
+                &Settings::uniform(2, res),
+                res,
+                quick,
+            )?;
+            if target == 317 {
+                c.thesis_s = Some(fast);
+                c.thesis_prepare_s = Some(svd);
+            }
+            out.push(c);
+        }
+    }
+    // Table 5.2, 4-factor column: 1D factors of 32, a uv factor of res², 317 samples.
+    let p317 = sphere_pattern(317);
+    for (res, svd, fast) in [(16, 3.77, 0.0160), (32, 13.76, 0.0418), (48, 44.88, 0.0853), (64, 121.55, 0.1409)] {
+        let mut c = measure(format!("table5.2 4-factor uv={res} 317 samples"), &p317, &Settings::four_factor(1, 32, res), res, quick)?;
+        c.thesis_s = Some(fast);
+        c.thesis_prepare_s = Some(svd);
+        out.push(c);
+    }
+    Ok(out)
+}
+
+/// A human-readable table of cases.
+pub fn table(cases: &[Case]) -> String {
+    let ms = |x: Option<f64>| x.map_or("-".to_string(), |s| format!("{:.3}", s * 1e3));
+    let sec = |x: Option<f64>| x.map_or("-".to_string(), |s| format!("{s:.4}"));
+    let mut out = format!(
+        "{:<38} {:>8} {:>9} {:>12} {:>11} | {:>12} {:>11}\n",
+        "case", "samples", "unknowns", "prepare ms", "solve ms", "thesis SVD s", "thesis fast s"
+    );
+    for c in cases {
+        out += &format!(
+            "{:<38} {:>8} {:>9} {:>12} {:>11} | {:>12} {:>11}\n",
+            c.case,
+            c.samples.map_or("-".into(), |x| x.to_string()),
+            c.unknowns.map_or("-".into(), |x| x.to_string()),
+            ms(c.prepare_s),
+            ms(c.solve_s.or(c.time_s)),
+            c.thesis_prepare_s.map_or("-".into(), |s| format!("{s:.2}")),
+            sec(c.thesis_s),
+        );
+    }
+    out
+}
