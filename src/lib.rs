@@ -35,7 +35,9 @@
 pub mod brdf;
 pub mod error;
 pub mod factor;
+pub mod gl;
 pub mod material;
+pub mod render;
 pub mod scene;
 pub mod util;
 
