@@ -83,6 +83,12 @@ impl Mesh {
     }
 }
 
+impl std::fmt::Debug for Mesh {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Mesh").field("triangles", &self.triangles()).finish()
+    }
+}
+
 /// The tangent a mesh without tangents gets: the azimuthal direction about world $+y$.
 pub fn fallback_tangent(n: Vec3) -> Vec4 {
     let t = Vec3::Y.cross(n);

@@ -76,6 +76,7 @@ impl Image {
 }
 
 /// A scene's meshes on the GPU, with its camera and light.
+#[derive(Debug)]
 pub struct GpuScene {
     pub meshes: Vec<Mesh>,
     pub camera: Camera,

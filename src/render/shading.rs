@@ -236,6 +236,12 @@ impl GpuShading {
     }
 }
 
+impl std::fmt::Debug for GpuShading {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list().entries(self.terms.iter().map(|t| &t.key)).finish()
+    }
+}
+
 /// `#define` names of factor k: input, param, domain, dim.
 const FACTOR_DEFINES: [[&str; 4]; MAX_FACTORS] = [
     ["F0_INPUT", "F0_PARAM", "F0_DOMAIN", "F0_DIM"],
