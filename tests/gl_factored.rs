@@ -5,7 +5,7 @@ mod gl_common;
 
 use brdfpaint::brdf::SphereView;
 use brdfpaint::factor::{Domain, Input, LogMap, Param};
-use brdfpaint::gl::HeadlessContext;
+use brdfpaint::gl::{ApiPreference, DevicePreference, HeadlessContext};
 use brdfpaint::render::{CoefTexture, FactorTexture, Ggx, GpuScene, Renderer, Shading, Term};
 use brdfpaint::scene::{Light, Scene};
 use glam::{DVec3, Vec3};
@@ -22,7 +22,10 @@ fn identity() -> LogMap {
 /// intensity and a falloff computed here from the G-buffer's world position. Returns the
 /// worst error relative to max(|expected|, 1) and the number of pixels compared.
 fn compare_at_gbuffer(scene: &Scene, shading: &Shading, w: usize, h: usize) -> (f64, usize) {
-    let ctx = HeadlessContext::new().unwrap();
+    compare_with(&HeadlessContext::new().unwrap(), scene, shading, w, h)
+}
+
+fn compare_with(ctx: &HeadlessContext, scene: &Scene, shading: &Shading, w: usize, h: usize) -> (f64, usize) {
     let mut r = Renderer::new(ctx.gl()).unwrap();
     let gpu = GpuScene::upload(ctx.gl(), scene).unwrap();
     let image = r.factored(&gpu, &r.upload(shading).unwrap(), w, h).unwrap();
@@ -311,6 +314,49 @@ fn contexts_on_parallel_threads_render_the_same_image() {
     assert!(worst < TABLE_TOL);
 }
 
+/// The GLES 3.0 code path (same shaders with the `300 es` header) gives the same image as
+/// desktop GL, and both match the CPU.
+#[test]
+fn gles_context_renders_like_desktop_gl() {
+    let gles = match HeadlessContext::with_options(DevicePreference::Software, ApiPreference::Gles) {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("skipped: no GLES context here ({e})");
+            return;
+        }
+    };
+    assert!(gles.is_gles(), "{gles:?}");
+    let shading = Shading {
+        terms: vec![
+            Term {
+                factors: vec![
+                    random_factor(spec(Input::Light, Param::Parabolic, Domain::Sphere, 16), 31),
+                    random_factor(spec(Input::Half, Param::Radius, Domain::Sphere, 40), 32),
+                ],
+                map: LogMap::Inverted { a: [3.0, 3.5, 4.0] },
+                coefficients: Some(CoefTexture::scalar(2, 2, &[0.2, 1.0, 0.5, 0.9])),
+            },
+            Term {
+                factors: vec![random_factor(spec(Input::View, Param::Hemispherical, Domain::Hemisphere, 8), 33)],
+                map: identity(),
+                coefficients: None,
+            },
+        ],
+    };
+    let scene = perspective_sphere(DVec3::new(-0.5, 0.8, 3.0), 0.8, sun(DVec3::new(0.5, 0.5, 0.4), [1.0; 3]));
+    let (worst, n) = compare_with(&gles, &scene, &shading, RES, RES);
+    eprintln!("GLES ({}): {n} pixels, worst relative error {worst:.2e}", gles.version());
+    assert!(n > 2000 && worst < TABLE_TOL);
+    let image = |ctx: &HeadlessContext| {
+        let mut r = Renderer::new(ctx.gl()).unwrap();
+        let gpu = GpuScene::upload(ctx.gl(), &scene).unwrap();
+        r.factored(&gpu, &r.upload(&shading).unwrap(), RES, RES).unwrap()
+    };
+    let (a, b) = (image(&gles), image(&HeadlessContext::new().unwrap()));
+    let diff = a.pixels.iter().zip(&b.pixels).flat_map(|(p, q)| (0..4).map(move |c| (p[c] - q[c]).abs())).fold(0.0, f32::max);
+    assert!(diff < 1e-5, "GLES and GL differ by {diff}");
+}
+
 #[test]
 fn frame_timing_reports_both_shaders() {
     let ctx = HeadlessContext::new().unwrap();
@@ -341,7 +387,11 @@ fn frame_times_at_1024() {
     let ctx = HeadlessContext::new().unwrap();
     eprintln!("{ctx:?}");
     let mut r = Renderer::new(ctx.gl()).unwrap();
-    let scene = perspective_sphere(DVec3::new(0.0, 0.0, 2.6), 0.9, sun(DVec3::new(-0.5, 0.5, 1.0), [1.0; 3]));
+    let mut scene = perspective_sphere(DVec3::new(0.0, 0.0, 2.6), 0.9, sun(DVec3::new(-0.5, 0.5, 1.0), [1.0; 3]));
+    // BENCH_SEGMENTS=64 makes the mesh light (4k triangles) so fragment cost dominates.
+    if let Some(seg) = std::env::var("BENCH_SEGMENTS").ok().and_then(|s| s.parse::<usize>().ok()) {
+        scene.meshes = vec![brdfpaint::render::mesh::uv_sphere(Vec3::ZERO, 1.0, seg, seg / 2)];
+    }
     let gpu = GpuScene::upload(ctx.gl(), &scene).unwrap();
     let one_d = Shading::uniform(Term {
         factors: vec![

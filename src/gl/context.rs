@@ -32,6 +32,18 @@ pub enum DevicePreference {
     Hardware,
 }
 
+/// Which API to ask for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ApiPreference {
+    /// Desktop GL 3.3 core, else GLES 3.0.
+    #[default]
+    Auto,
+    /// Desktop GL 3.3 core only.
+    DesktopGl,
+    /// GLES 3.0 only (tests the GLES code path on a desktop machine).
+    Gles,
+}
+
 /// A GL function table shared by every GL object made from it.
 ///
 /// Objects ([`Texture2D`](super::Texture2D), [`Program`](super::Program), …) hold a clone,
@@ -117,23 +129,39 @@ impl HeadlessContext {
 
     /// A context on the device `preference` picks.
     pub fn with_preference(preference: DevicePreference) -> Result<Self> {
+        Self::with_options(preference, ApiPreference::Auto)
+    }
+
+    /// A context on the device `preference` picks, with the API `api` asks for.
+    pub fn with_options(preference: DevicePreference, api: ApiPreference) -> Result<Self> {
         let devices: Vec<Device> = Device::query_devices()
             .map_err(|e| Error::Gl(format!("cannot list EGL devices: {e}")))?
             .collect();
         let is_software = |d: &Device| d.extensions().contains("EGL_MESA_device_software");
-        let device = match preference {
-            DevicePreference::Software => devices.iter().find(|d| is_software(d)),
-            DevicePreference::Hardware => {
-                devices.iter().find(|d| !is_software(d)).or_else(|| devices.iter().find(|d| is_software(d)))
+        // Candidates in order of preference; a device that fails to open is skipped.
+        let (software, hardware): (Vec<&Device>, Vec<&Device>) = devices.iter().partition(|d| is_software(d));
+        let candidates: Vec<&Device> = match preference {
+            DevicePreference::Software => software,
+            DevicePreference::Hardware => hardware.into_iter().chain(software).collect(),
+        };
+        if candidates.is_empty() {
+            return Err(Error::Gl(format!(
+                "no suitable EGL device among {} (wanted {preference:?}; is Mesa's EGL installed?)",
+                devices.len()
+            )));
+        }
+        let mut failures = Vec::new();
+        for device in candidates {
+            match Self::on_device(device, api) {
+                Ok(ctx) => return Ok(ctx),
+                Err(Error::Gl(m)) => failures.push(m),
+                Err(e) => failures.push(e.to_string()),
             }
         }
-        .ok_or_else(|| {
-            Error::Gl(format!(
-                "no suitable EGL device among {} (wanted {:?}; is Mesa installed?)",
-                devices.len(),
-                preference
-            ))
-        })?;
+        Err(Error::Gl(failures.join("; ")))
+    }
+
+    fn on_device(device: &Device, api: ApiPreference) -> Result<Self> {
         let device_name = format!(
             "{} ({})",
             device.name().unwrap_or("unnamed device"),
@@ -145,7 +173,7 @@ impl HeadlessContext {
             .map_err(|e| Error::Gl(format!("cannot open an EGL display on {device_name}: {e}")))?;
 
         // Try desktop GL 3.3 core first, then GLES 3.0.
-        let attempts = [
+        let attempts = vec![
             (
                 Api::OPENGL,
                 ContextAttributesBuilder::new()
@@ -160,6 +188,11 @@ impl HeadlessContext {
                     .build(None),
             ),
         ];
+        let attempts = attempts.into_iter().filter(|(a, _)| match api {
+            ApiPreference::Auto => true,
+            ApiPreference::DesktopGl => *a == Api::OPENGL,
+            ApiPreference::Gles => *a == Api::GLES3,
+        });
         let mut failures = Vec::new();
         let mut made = None;
         for (api, attributes) in attempts {

@@ -160,7 +160,9 @@ pub(crate) struct GpuTerm {
     pub key: String,
 }
 
-/// A [`Shading`] uploaded as float textures (RGB32F, linear filtering, clamped).
+/// A [`Shading`] uploaded as float textures (RGBA32F with alpha 1, linear filtering,
+/// clamped). RGBA rather than RGB: llvmpipe filters RGB32F on a slower path (measured 1.8×
+/// against 1.4× the GGX shader's frame time for three 1D factors at 1024²).
 pub struct GpuShading {
     pub(crate) terms: Vec<GpuTerm>,
 }
@@ -179,8 +181,7 @@ impl GpuShading {
             for (j, f) in term.factors.iter().enumerate() {
                 let m = f.spec.res;
                 let (w, h) = if f.spec.dim() == 1 { (m, 1) } else { (m, m) };
-                let data: Vec<f32> = f.texels.iter().flatten().copied().collect();
-                let tex = Texture2D::new(gl, w, h, TexelFormat::Rgb32F, Filter::Linear, Some(&data))?;
+                let tex = Texture2D::new(gl, w, h, TexelFormat::Rgba32F, Filter::Linear, Some(&rgba(&f.texels)))?;
                 factors.push((tex, m as f32));
                 let input = match f.spec.input {
                     Input::Light => 0,
@@ -212,8 +213,8 @@ impl GpuShading {
             defines.push(("MAP_KIND", kind.to_string()));
             let coefficients = match &term.coefficients {
                 Some(c) => {
-                    let data: Vec<f32> = c.texels.iter().flatten().copied().collect();
-                    Some(Texture2D::new(gl, c.width, c.height, TexelFormat::Rgb32F, Filter::Linear, Some(&data))?)
+                    let data = rgba(&c.texels);
+                    Some(Texture2D::new(gl, c.width, c.height, TexelFormat::Rgba32F, Filter::Linear, Some(&data))?)
                 }
                 None => None,
             };
@@ -240,6 +241,11 @@ impl std::fmt::Debug for GpuShading {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_list().entries(self.terms.iter().map(|t| &t.key)).finish()
     }
+}
+
+/// RGB texels padded to RGBA with alpha 1.
+fn rgba(texels: &[[f32; 3]]) -> Vec<f32> {
+    texels.iter().flat_map(|t| [t[0], t[1], t[2], 1.0]).collect()
 }
 
 /// `#define` names of factor k: input, param, domain, dim.
