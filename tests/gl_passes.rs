@@ -159,6 +159,54 @@ fn images_are_upright() {
     assert_eq!(m.at(50, 50)[0], 1.0);
 }
 
+/// Every pass covers exactly the same pixels (the sampler gets the pixels the outline and
+/// reference showed): a cube partly hiding a sphere, in perspective, non-square.
+#[test]
+fn all_passes_cover_the_same_pixels() {
+    let (ctx, mut r) = setup();
+    let scene = Scene {
+        meshes: vec![uv_sphere(Vec3::ZERO, 1.0, 48, 24), cube(Vec3::new(0.8, -0.3, 1.2), 0.5)],
+        camera: Camera {
+            world_from_camera: looking_at_origin(DVec3::new(0.7, 0.9, 4.0)),
+            projection: Projection::Perspective { yfov: 0.8, aspect: None, znear: 0.1, zfar: None },
+        },
+        light: Light::Point { position: Vec3::new(-2.0, 3.0, 3.0), color: Vec3::ONE, intensity: 20.0 },
+    };
+    let gpu = GpuScene::upload(ctx.gl(), &scene).unwrap();
+    let (w, h) = (120, 80);
+    let shading = Shading::uniform(Term {
+        factors: vec![random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 8), 1)],
+        map: LogMap::Identity { floor: [1e-3; 3] },
+        coefficients: None,
+    });
+    let covered = |im: &brdfpaint::render::Image, on: fn([f32; 4]) -> bool| im.pixels.iter().map(|&p| on(p)).collect::<Vec<_>>();
+    let g = r.gbuffer(&gpu, w, h).unwrap();
+    let hits: Vec<bool> = g.pixels.iter().map(|p| p.hit).collect();
+    let alpha = |p: [f32; 4]| p[3] == 1.0;
+    let white = |p: [f32; 4]| p[0] == 1.0;
+    assert_eq!(covered(&r.mask(&gpu, w, h).unwrap(), white), hits, "mask");
+    assert_eq!(covered(&r.reference(&gpu, &ReferenceStyle::default(), w, h).unwrap(), alpha), hits, "reference");
+    assert_eq!(covered(&r.factored(&gpu, &r.upload(&shading).unwrap(), w, h).unwrap(), alpha), hits, "factored");
+    assert_eq!(covered(&r.ggx(&gpu, &Ggx::default(), w, h).unwrap(), alpha), hits, "ggx");
+    assert_eq!(g.mask().pixels.iter().map(|p| p[0] == 1.0).collect::<Vec<_>>(), hits);
+    let n = hits.iter().filter(|&&x| x).count();
+    assert!(n > 1500 && n < w * h / 2, "{n}");
+    // The outline also has the cube's creases and its occlusion contour over the sphere:
+    // more line pixels than the outer silhouette alone.
+    let lines = g.lines(&OutlineStyle { width: 1, ..Default::default() });
+    let silhouette = (0..w * h)
+        .filter(|&k| {
+            let (i, j) = (k % w, k / w);
+            hits[k]
+                && [(i.wrapping_sub(1), j), (i + 1, j), (i, j.wrapping_sub(1)), (i, j + 1)]
+                    .iter()
+                    .any(|&(x, y)| x >= w || y >= h || !hits[y * w + x])
+        })
+        .count();
+    let total = lines.iter().filter(|&&x| x).count();
+    assert!(total > silhouette + 20, "{total} lines, {silhouette} silhouette pixels");
+}
+
 /// Outline of a sphere: only the silhouette, on the boundary pixels (width 1), within 1 px
 /// of the analytic circle; with width 2 also the background ring, still within 1 px.
 #[test]
