@@ -8,8 +8,8 @@ use brdfpaint::factor::{Domain, Input, LogMap, Param};
 use brdfpaint::gl::{ApiPreference, DevicePreference, HeadlessContext};
 use brdfpaint::render::{CoefTexture, FactorTexture, Ggx, GpuScene, Renderer, Shading, Term};
 use brdfpaint::scene::{Light, Scene};
-use glam::{DVec3, Vec3};
 use gl_common::*;
+use glam::{DVec3, Vec3};
 
 const RES: usize = 96;
 
@@ -75,12 +75,7 @@ fn scenes() -> Vec<(String, Scene, usize, usize)> {
             RES,
             RES,
         ),
-        (
-            "perspective, point light".into(),
-            perspective_sphere(DVec3::new(0.5, 0.8, 3.5), 0.7, point),
-            RES + 32,
-            RES,
-        ),
+        ("perspective, point light".into(), perspective_sphere(DVec3::new(0.5, 0.8, 3.5), 0.7, point), RES + 32, RES),
     ]
 }
 
@@ -163,7 +158,9 @@ fn factored_sphere_matches_the_analytic_sphere_at_pixel_centres() {
     let ctx = HeadlessContext::new().unwrap();
     let mut r = Renderer::new(ctx.gl()).unwrap();
     let gpu_shading = r.upload(&shading).unwrap();
-    for (camera, light) in [(DVec3::Z, DVec3::new(-0.5, 0.5, 1.0)), (DVec3::new(-0.3, 0.5, 0.8), DVec3::new(1.0, 0.2, -0.4))] {
+    for (camera, light) in
+        [(DVec3::Z, DVec3::new(-0.5, 0.5, 1.0)), (DVec3::new(-0.3, 0.5, 0.8), DVec3::new(1.0, 0.2, -0.4))]
+    {
         let scene = ortho_sphere(camera, sun(light, [1.0; 3]));
         let gpu = GpuScene::upload(ctx.gl(), &scene).unwrap();
         let image = r.factored(&gpu, &gpu_shading, RES, RES).unwrap();
@@ -235,9 +232,16 @@ fn material_map_blends_two_terms_by_their_coefficients() {
     let blue = [0.1, 0.2, 0.8];
     let shading = Shading {
         terms: vec![
-            Term { factors: vec![constant(red)], map: identity(), coefficients: Some(CoefTexture::scalar(n, 4, &left)) },
             Term {
-                factors: vec![constant(blue), random_factor(spec(Input::View, Param::Radius, Domain::Hemisphere, 9), 11)],
+                factors: vec![constant(red)],
+                map: identity(),
+                coefficients: Some(CoefTexture::scalar(n, 4, &left)),
+            },
+            Term {
+                factors: vec![
+                    constant(blue),
+                    random_factor(spec(Input::View, Param::Radius, Domain::Hemisphere, 9), 11),
+                ],
                 map: LogMap::Offset { a: [0.01, 0.02, 0.03] },
                 coefficients: Some(CoefTexture::scalar(n, 4, &right)),
             },
@@ -353,7 +357,8 @@ fn gles_context_renders_like_desktop_gl() {
         r.factored(&gpu, &r.upload(&shading).unwrap(), RES, RES).unwrap()
     };
     let (a, b) = (image(&gles), image(&HeadlessContext::new().unwrap()));
-    let diff = a.pixels.iter().zip(&b.pixels).flat_map(|(p, q)| (0..4).map(move |c| (p[c] - q[c]).abs())).fold(0.0, f32::max);
+    let diff =
+        a.pixels.iter().zip(&b.pixels).flat_map(|(p, q)| (0..4).map(move |c| (p[c] - q[c]).abs())).fold(0.0, f32::max);
     assert!(diff < 1e-5, "GLES and GL differ by {diff}");
 }
 

@@ -11,8 +11,8 @@ use brdfpaint::render::{
     FactorTexture, Ggx, GpuScene, Mesh, OutlineStyle, ReferenceStyle, Renderer, Shading, Term, MAX_TERMS,
 };
 use brdfpaint::scene::{Camera, CpuMesh, Light, Projection, Scene};
-use glam::{DVec3, Mat4, Vec3};
 use gl_common::*;
+use glam::{DVec3, Mat4, Vec3};
 
 const RES: usize = 96;
 
@@ -37,7 +37,9 @@ fn reference_shading_matches_lambert_phong_on_a_sphere() {
     let style = ReferenceStyle::default();
     let toward = DVec3::new(-0.5, 0.6, 0.8).normalize();
     let point = DVec3::new(1.5, 2.0, 2.5);
-    for light in [sun(toward, [1.0, 0.9, 0.7]), Light::Point { position: point.as_vec3(), color: Vec3::ONE, intensity: 8.0 }] {
+    for light in
+        [sun(toward, [1.0, 0.9, 0.7]), Light::Point { position: point.as_vec3(), color: Vec3::ONE, intensity: 8.0 }]
+    {
         let scene = ortho_sphere(DVec3::Z, light);
         let gpu = GpuScene::upload(ctx.gl(), &scene).unwrap();
         let image = r.reference(&gpu, &style, RES, RES).unwrap();
@@ -179,7 +181,8 @@ fn all_passes_cover_the_same_pixels() {
         map: LogMap::Identity { floor: [1e-3; 3] },
         coefficients: None,
     });
-    let covered = |im: &brdfpaint::render::Image, on: fn([f32; 4]) -> bool| im.pixels.iter().map(|&p| on(p)).collect::<Vec<_>>();
+    let covered =
+        |im: &brdfpaint::render::Image, on: fn([f32; 4]) -> bool| im.pixels.iter().map(|&p| on(p)).collect::<Vec<_>>();
     let g = r.gbuffer(&gpu, w, h).unwrap();
     let hits: Vec<bool> = g.pixels.iter().map(|p| p.hit).collect();
     let alpha = |p: [f32; 4]| p[3] == 1.0;
@@ -227,7 +230,10 @@ fn outline_of_a_sphere_is_its_silhouette() {
                     lines += 1;
                     // A line pixel has a neighbour across the silhouette: within 1 px of it.
                     let (lo, hi) = if width == 1 { (-1.0, 0.05) } else { (-1.0, 1.0) };
-                    assert!(d > lo - 0.05 && d < hi + 0.05, "width {width}: line at ({i}, {j}), {d:.3} px from the circle");
+                    assert!(
+                        d > lo - 0.05 && d < hi + 0.05,
+                        "width {width}: line at ({i}, {j}), {d:.3} px from the circle"
+                    );
                 } else if d < -0.05 {
                     // Inside pixels within 0.7 px of the circle have an outside 4-neighbour.
                     assert!(d < -0.75, "width {width}: missing line at ({i}, {j}), {d:.3} px inside");
@@ -266,13 +272,18 @@ fn outline_of_a_cube_has_its_creases() {
     };
     let line_near = |(x, y): (f64, f64), radius: i64| {
         let (ci, cj) = (x.floor() as i64, y.floor() as i64);
-        (-radius..=radius).any(|dj| (-radius..=radius).any(|di| page.at((ci + di) as usize, (cj + dj) as usize)[0] == 0.0))
+        (-radius..=radius)
+            .any(|dj| (-radius..=radius).any(|di| page.at((ci + di) as usize, (cj + dj) as usize)[0] == 0.0))
     };
     let corner = DVec3::ONE;
     for end in [DVec3::new(1.0, 1.0, -1.0), DVec3::new(1.0, -1.0, 1.0), DVec3::new(-1.0, 1.0, 1.0)] {
         for k in 2..=8 {
             let p = corner.lerp(end, k as f64 / 10.0);
-            assert!(line_near(to_pixel(p), 1), "crease {corner}-{end} at {k}/10: no line within 1 px of {:?}", to_pixel(p));
+            assert!(
+                line_near(to_pixel(p), 1),
+                "crease {corner}-{end} at {k}/10: no line within 1 px of {:?}",
+                to_pixel(p)
+            );
         }
     }
     for face in [DVec3::new(1.0, 0.0, 0.0), DVec3::new(0.0, 1.0, 0.0), DVec3::new(0.0, 0.0, 1.0)] {
@@ -376,7 +387,12 @@ fn bad_input_is_an_error_not_a_panic() {
     let mut m = uv_sphere(Vec3::ZERO, 1.0, 8, 4);
     m.indices.extend([0, 1, 9999]);
     assert!(matches!(Mesh::upload(gl, &m), Err(brdfpaint::Error::Input(_))));
-    let m = CpuMesh { positions: vec![Vec3::ZERO; 3], normals: vec![Vec3::Z; 2], indices: vec![0, 1, 2], ..Default::default() };
+    let m = CpuMesh {
+        positions: vec![Vec3::ZERO; 3],
+        normals: vec![Vec3::Z; 2],
+        indices: vec![0, 1, 2],
+        ..Default::default()
+    };
     assert!(Mesh::upload(gl, &m).is_err());
 
     // Shading functions the renderer cannot draw.
@@ -390,7 +406,10 @@ fn bad_input_is_an_error_not_a_panic() {
     nan.terms[0].factors[0].texels[3][1] = f32::NAN;
     assert!(r.upload(&nan).is_err());
     let short = Shading::uniform(Term {
-        factors: vec![FactorTexture { spec: spec(Input::Half, Param::Parabolic, Domain::Hemisphere, 8), texels: vec![[1.0; 3]; 8] }],
+        factors: vec![FactorTexture {
+            spec: spec(Input::Half, Param::Parabolic, Domain::Hemisphere, 8),
+            texels: vec![[1.0; 3]; 8],
+        }],
         ..good.terms[0].clone()
     });
     assert!(r.upload(&short).unwrap_err().to_string().contains("64 expected"));
@@ -407,7 +426,8 @@ fn bad_input_is_an_error_not_a_panic() {
 
     // A shader that does not compile reports the stage, the log and the line.
     let vs = format!("{}void main() {{ gl_Position = vec4(0.0); }}\n", header(gl, &[]));
-    let fs = format!("{}out vec4 o;\nvoid main() {{\n    o = texture(no_such_sampler, vec2(0.0));\n}}\n", header(gl, &[]));
+    let fs =
+        format!("{}out vec4 o;\nvoid main() {{\n    o = texture(no_such_sampler, vec2(0.0));\n}}\n", header(gl, &[]));
     let e = Program::new(gl, "bad", &vs, &fs).err().expect("compile error").to_string();
     assert!(e.contains("fragment shader 'bad'") && e.contains("no_such_sampler"), "{e}");
 }

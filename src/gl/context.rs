@@ -134,9 +134,8 @@ impl HeadlessContext {
 
     /// A context on the device `preference` picks, with the API `api` asks for.
     pub fn with_options(preference: DevicePreference, api: ApiPreference) -> Result<Self> {
-        let devices: Vec<Device> = Device::query_devices()
-            .map_err(|e| Error::Gl(format!("cannot list EGL devices: {e}")))?
-            .collect();
+        let devices: Vec<Device> =
+            Device::query_devices().map_err(|e| Error::Gl(format!("cannot list EGL devices: {e}")))?.collect();
         let is_software = |d: &Device| d.extensions().contains("EGL_MESA_device_software");
         // Candidates in order of preference; a device that fails to open is skipped.
         let (software, hardware): (Vec<&Device>, Vec<&Device>) = devices.iter().partition(|d| is_software(d));
@@ -162,11 +161,8 @@ impl HeadlessContext {
     }
 
     fn on_device(device: &Device, api: ApiPreference) -> Result<Self> {
-        let device_name = format!(
-            "{} ({})",
-            device.name().unwrap_or("unnamed device"),
-            device.vendor().unwrap_or("unknown vendor")
-        );
+        let device_name =
+            format!("{} ({})", device.name().unwrap_or("unnamed device"), device.vendor().unwrap_or("unknown vendor"));
 
         // SAFETY: no raw display handle is passed, which `with_device` documents as valid.
         let display = unsafe { Display::with_device(device, None) }
@@ -197,10 +193,8 @@ impl HeadlessContext {
         let mut made = None;
         for (api, attributes) in attempts {
             // No surface type: we never draw to a window or pbuffer, only to FBOs.
-            let template = ConfigTemplateBuilder::new()
-                .with_surface_type(ConfigSurfaceTypes::empty())
-                .with_api(api)
-                .build();
+            let template =
+                ConfigTemplateBuilder::new().with_surface_type(ConfigSurfaceTypes::empty()).with_api(api).build();
             // SAFETY: the template refers to no native window.
             let config = match unsafe { display.find_configs(template) } {
                 Ok(mut configs) => configs.next(),
@@ -230,13 +224,10 @@ impl HeadlessContext {
         })?;
 
         // SAFETY: the context is current on this thread; the loader returns its functions.
-        let glow = unsafe {
-            glow::Context::from_loader_function_cstr(|s: &CStr| display.get_proc_address(s))
-        };
+        let glow = unsafe { glow::Context::from_loader_function_cstr(|s: &CStr| display.get_proc_address(s)) };
         // SAFETY: plain string queries on a current context.
-        let (version, renderer) = unsafe {
-            (glow.get_parameter_string(glow::VERSION), glow.get_parameter_string(glow::RENDERER))
-        };
+        let (version, renderer) =
+            unsafe { (glow.get_parameter_string(glow::VERSION), glow.get_parameter_string(glow::RENDERER)) };
         let owner = Owner { context, _display: display };
         let gl = Gl(Rc::new(GlShared { glow, owner: Some(owner) }));
         Ok(HeadlessContext { gl, version, renderer, device: device_name })

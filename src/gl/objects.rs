@@ -90,8 +90,8 @@ impl VertexArray {
     /// An empty vertex array.
     pub fn new(gl: &Gl) -> Result<VertexArray> {
         // SAFETY: a current context.
-        let raw = unsafe { gl.create_vertex_array() }
-            .map_err(|e| Error::Gl(format!("cannot create a vertex array: {e}")))?;
+        let raw =
+            unsafe { gl.create_vertex_array() }.map_err(|e| Error::Gl(format!("cannot create a vertex array: {e}")))?;
         Ok(VertexArray { gl: gl.clone(), raw })
     }
 

@@ -194,11 +194,11 @@ impl Program {
     /// name (setting it is then a no-op, as in GL).
     pub fn location(&self, name: &str) -> Option<glow::UniformLocation> {
         if let Some(l) = self.uniforms.borrow().get(name) {
-            return l.clone();
+            return *l;
         }
         // SAFETY: a live program of this context.
         let l = unsafe { self.gl.get_uniform_location(self.raw, name) };
-        self.uniforms.borrow_mut().insert(name.to_string(), l.clone());
+        self.uniforms.borrow_mut().insert(name.to_string(), l);
         l
     }
 

@@ -111,7 +111,7 @@ impl GBuffer {
                     let dist = d.length();
                     let off_plane = pa.face_normal.dot(d).abs().max(pb.face_normal.dot(d).abs());
                     let jump = dist > 0.0 && off_plane > style.depth_jump * dist;
-                    (crease || jump).then(|| if pa.depth <= pb.depth { (a, b) } else { (b, a) })
+                    (crease || jump).then_some(if pa.depth <= pb.depth { (a, b) } else { (b, a) })
                 }
             }
         };
@@ -142,8 +142,7 @@ impl GBuffer {
 
     /// The coloring-book page (thesis 4.1): black lines on white, alpha 1.
     pub fn outline(&self, style: &OutlineStyle) -> Image {
-        let pixels =
-            self.lines(style).into_iter().map(|l| if l { [0.0, 0.0, 0.0, 1.0] } else { [1.0; 4] }).collect();
+        let pixels = self.lines(style).into_iter().map(|l| if l { [0.0, 0.0, 0.0, 1.0] } else { [1.0; 4] }).collect();
         Image { width: self.width, height: self.height, pixels }
     }
 }
@@ -233,7 +232,7 @@ mod tests {
         }
         // Width 2 adds the background ring (4-neighbours of the square only).
         let two = g.lines(&OutlineStyle::default());
-        assert!(two[2 * 10 + 1] && two[1 * 10 + 2] && !two[1 * 10 + 1] && !two[5 * 10 + 5]);
+        assert!(two[2 * 10 + 1] && two[10 + 2] && !two[10 + 1] && !two[5 * 10 + 5]);
         assert_eq!(g.coverage(), 36);
         assert_eq!(g.mask().pixels.iter().filter(|p| p[0] == 1.0).count(), 36);
     }

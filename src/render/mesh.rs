@@ -115,7 +115,10 @@ fn validate(m: &CpuMesh) -> Result<()> {
         }
     }
     if m.indices.len() % 3 != 0 {
-        return Err(Error::input(format!("mesh has {} indices, not a multiple of 3 (a triangle list)", m.indices.len())));
+        return Err(Error::input(format!(
+            "mesh has {} indices, not a multiple of 3 (a triangle list)",
+            m.indices.len()
+        )));
     }
     if let Some(&i) = m.indices.iter().find(|&&i| i as usize >= n) {
         return Err(Error::input(format!("mesh index {i} is out of range ({n} vertices)")));
@@ -246,9 +249,9 @@ mod tests {
     fn cube_faces_are_right_handed() {
         let m = cube(Vec3::ZERO, 1.0);
         let t = m.tangents.as_ref().unwrap();
-        for k in 0..m.positions.len() {
-            assert!(m.positions[k].dot(m.normals[k]) > 0.99);
-            assert!(t[k].truncate().dot(m.normals[k]).abs() < 1e-6);
+        for ((p, n), t) in m.positions.iter().zip(&m.normals).zip(t) {
+            assert!(p.dot(*n) > 0.99);
+            assert!(t.truncate().dot(*n).abs() < 1e-6);
         }
         for tri in m.indices.chunks(3) {
             let [a, b, c] = [0, 1, 2].map(|k| m.positions[tri[k] as usize]);

@@ -259,7 +259,13 @@ impl Renderer {
 
     /// The reference image: Lambert + Phong under the scene's light (thesis 4.1).
     /// Background (0, 0, 0, 0).
-    pub fn reference(&mut self, scene: &GpuScene, style: &ReferenceStyle, width: usize, height: usize) -> Result<Image> {
+    pub fn reference(
+        &mut self,
+        scene: &GpuScene,
+        style: &ReferenceStyle,
+        width: usize,
+        height: usize,
+    ) -> Result<Image> {
         let view = View::new(&scene.camera, width, height)?;
         let mut light = LightUniforms::new(&scene.light)?;
         light.rgb *= style.exposure;

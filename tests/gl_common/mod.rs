@@ -114,9 +114,8 @@ pub fn coef_lookup(c: &CoefTexture, uv: [f64; 2]) -> [f64; 3] {
     let (y0, y1, fy) = axis(uv[1], c.height);
     let at = |x: usize, y: usize| c.texels[y * c.width + x].map(|v| v as f64);
     let (a, b, cc, d) = (at(x0, y0), at(x1, y0), at(x0, y1), at(x1, y1));
-    [0, 1, 2].map(|k| {
-        (1.0 - fx) * (1.0 - fy) * a[k] + fx * (1.0 - fy) * b[k] + (1.0 - fx) * fy * cc[k] + fx * fy * d[k]
-    })
+    [0, 1, 2]
+        .map(|k| (1.0 - fx) * (1.0 - fy) * a[k] + fx * (1.0 - fy) * b[k] + (1.0 - fx) * fy * cc[k] + fx * fy * d[k])
 }
 
 /// $S(q)$ of a shading function on the CPU, in f64, through `brdfpaint::factor`: table
