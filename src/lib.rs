@@ -37,8 +37,10 @@ pub mod brdf;
 pub mod cli;
 pub mod error;
 pub mod factor;
+pub mod gl;
 pub mod images;
 pub mod material;
+pub mod render;
 pub mod scene;
 pub mod util;
 

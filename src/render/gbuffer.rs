@@ -1,0 +1,276 @@
+//! The G-buffer (per pixel: coverage, position, local-frame $l$ and $v$, frame, uv) and what
+//! is derived from it on the host: the coverage mask and the coloring-book outline.
+
+use glam::{DVec2, DVec3, Vec2, Vec3, Vec4};
+
+use super::Image;
+use crate::factor::Query;
+
+/// One pixel of the G-buffer. Everything is what the factored shader computes at the pixel
+/// centre (same vertex stage, same `surface()` code), in `f32`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GPixel {
+    /// The pixel centre sees the object (and every value below is finite).
+    pub hit: bool,
+    /// World position.
+    pub position: Vec3,
+    /// Unit direction toward the light, local frame (x tangent, y bitangent, z normal).
+    pub l: Vec3,
+    /// Unit direction toward the viewer, local frame.
+    pub v: Vec3,
+    /// The light's falloff at this point: $1/d^2$ for point lights, 1 for directional ones.
+    /// Colour × intensity is not included.
+    pub falloff: f32,
+    /// Eye-space depth: distance from the camera along its forward axis.
+    pub depth: f32,
+    /// World-space unit shading normal (interpolated, normalized).
+    pub normal: Vec3,
+    /// World-space unit tangent (orthogonalized against the normal) and bitangent sign.
+    pub tangent: Vec4,
+    /// The triangle's world-space plane normal, turned toward the shading normal.
+    pub face_normal: Vec3,
+    /// Texture coordinates.
+    pub uv: Vec2,
+}
+
+impl GPixel {
+    /// The sample this pixel makes, in `f64` (directions renormalized).
+    pub fn query(&self) -> Option<Query> {
+        self.hit.then(|| Query {
+            l: self.l.as_dvec3().normalize_or(DVec3::Z),
+            v: self.v.as_dvec3().normalize_or(DVec3::Z),
+            uv: DVec2::new(self.uv.x as f64, self.uv.y as f64),
+        })
+    }
+}
+
+/// A `width` × `height` G-buffer, row 0 at the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GBuffer {
+    pub width: usize,
+    pub height: usize,
+    pub pixels: Vec<GPixel>,
+}
+
+/// How the outline is drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OutlineStyle {
+    /// Line width in pixels. An edge lies between two neighbouring pixels; width 1 draws the
+    /// pixel on the object's side (the near side for creases and occlusions), width 2 both,
+    /// wider lines grow from there by $(w - 2)/2$ pixels on each side.
+    pub width: usize,
+    /// Two neighbouring pixels whose triangles' planes meet at more than this angle
+    /// (radians) are split by a crease line.
+    pub crease_angle: f32,
+    /// Two neighbouring pixels are split by an occlusion line when one lies off the other's
+    /// triangle plane by more than this fraction of their distance (a depth jump).
+    pub depth_jump: f32,
+}
+
+impl Default for OutlineStyle {
+    fn default() -> Self {
+        OutlineStyle { width: 2, crease_angle: 60f32.to_radians(), depth_jump: 0.6 }
+    }
+}
+
+impl GBuffer {
+    /// The pixel at column `i`, row `j` (row 0 at the top).
+    pub fn at(&self, i: usize, j: usize) -> &GPixel {
+        &self.pixels[j * self.width + i]
+    }
+
+    /// Number of pixels that see the object.
+    pub fn coverage(&self) -> usize {
+        self.pixels.iter().filter(|p| p.hit).count()
+    }
+
+    /// The coverage mask: white (1) where the pixel centre sees the object, black (0)
+    /// elsewhere; alpha 1.
+    pub fn mask(&self) -> Image {
+        let pixels = self.pixels.iter().map(|p| if p.hit { [1.0; 4] } else { [0.0, 0.0, 0.0, 1.0] }).collect();
+        Image { width: self.width, height: self.height, pixels }
+    }
+
+    /// Which pixels carry a line: silhouettes (object against background), creases and
+    /// occlusion contours, per `style`.
+    pub fn lines(&self, style: &OutlineStyle) -> Vec<bool> {
+        let (w, h) = (self.width, self.height);
+        let mut line = vec![false; w * h];
+        let cos_crease = style.crease_angle.cos();
+        // Is there an edge between pixels a and b (4-neighbours)? Returns the pixel on the
+        // object's / near side, and the other one.
+        let edge = |a: usize, b: usize| -> Option<(usize, usize)> {
+            let (pa, pb) = (&self.pixels[a], &self.pixels[b]);
+            match (pa.hit, pb.hit) {
+                (false, false) => None,
+                (true, false) => Some((a, b)),
+                (false, true) => Some((b, a)),
+                (true, true) => {
+                    let crease = pa.face_normal.dot(pb.face_normal) < cos_crease;
+                    let d = pb.position - pa.position;
+                    let dist = d.length();
+                    let off_plane = pa.face_normal.dot(d).abs().max(pb.face_normal.dot(d).abs());
+                    let jump = dist > 0.0 && off_plane > style.depth_jump * dist;
+                    (crease || jump).then_some(if pa.depth <= pb.depth { (a, b) } else { (b, a) })
+                }
+            }
+        };
+        for j in 0..h {
+            for i in 0..w {
+                let a = j * w + i;
+                // Pixels on the image border that see the object close the silhouette.
+                if self.pixels[a].hit && (i == 0 || j == 0 || i + 1 == w || j + 1 == h) {
+                    line[a] = true;
+                }
+                let neighbours = [(i + 1 < w).then(|| a + 1), (j + 1 < h).then(|| a + w)];
+                for b in neighbours.into_iter().flatten() {
+                    if let Some((near, far)) = edge(a, b) {
+                        line[near] = true;
+                        if style.width >= 2 {
+                            line[far] = true;
+                        }
+                    }
+                }
+            }
+        }
+        let grow = style.width.saturating_sub(2) / 2;
+        if grow > 0 {
+            line = dilate(&line, w, h, grow);
+        }
+        line
+    }
+
+    /// The coloring-book page (thesis 4.1): black lines on white, alpha 1.
+    pub fn outline(&self, style: &OutlineStyle) -> Image {
+        let pixels = self.lines(style).into_iter().map(|l| if l { [0.0, 0.0, 0.0, 1.0] } else { [1.0; 4] }).collect();
+        Image { width: self.width, height: self.height, pixels }
+    }
+}
+
+/// Grows a set of pixels by a disc of radius `r` pixels.
+fn dilate(set: &[bool], w: usize, h: usize, r: usize) -> Vec<bool> {
+    let mut out = set.to_vec();
+    let ri = r as isize;
+    for j in 0..h as isize {
+        for i in 0..w as isize {
+            if !set[(j * w as isize + i) as usize] {
+                continue;
+            }
+            for dj in -ri..=ri {
+                for di in -ri..=ri {
+                    let (x, y) = (i + di, j + dj);
+                    if di * di + dj * dj <= ri * ri && x >= 0 && y >= 0 && x < w as isize && y < h as isize {
+                        out[(y * w as isize + x) as usize] = true;
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Assembles G-buffer pixels from the six pass images (see shaders/gbuffer.frag).
+pub(crate) fn assemble(width: usize, height: usize, passes: &[Vec<[f32; 4]>; 6]) -> GBuffer {
+    let v3 = |p: [f32; 4]| Vec3::new(p[0], p[1], p[2]);
+    let pixels = (0..width * height)
+        .map(|k| {
+            let [p0, p1, p2, p3, p4, p5] = [0, 1, 2, 3, 4, 5].map(|s| passes[s][k]);
+            let px = GPixel {
+                hit: p0[3] > 0.5,
+                position: v3(p0),
+                l: v3(p1),
+                falloff: p1[3],
+                v: v3(p2),
+                depth: p2[3],
+                normal: v3(p3),
+                tangent: Vec4::from_array(p4),
+                face_normal: v3(p5),
+                uv: Vec2::new(p3[3], p5[3]),
+            };
+            let finite = [p0, p1, p2, p3, p4, p5].iter().all(|p| p.iter().all(|x| x.is_finite()));
+            if px.hit && finite {
+                px
+            } else {
+                GPixel::default()
+            }
+        })
+        .collect();
+    GBuffer { width, height, pixels }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flat square of pixels facing the camera in the middle of an empty image.
+    fn square(w: usize, h: usize, lo: usize, hi: usize) -> GBuffer {
+        let pixels = (0..w * h)
+            .map(|k| {
+                let (i, j) = (k % w, k / w);
+                let hit = (lo..hi).contains(&i) && (lo..hi).contains(&j);
+                GPixel {
+                    hit,
+                    position: Vec3::new(i as f32, -(j as f32), 0.0),
+                    face_normal: Vec3::Z,
+                    depth: 1.0,
+                    ..Default::default()
+                }
+            })
+            .collect();
+        GBuffer { width: w, height: h, pixels }
+    }
+
+    #[test]
+    fn a_flat_square_gets_only_its_border() {
+        let g = square(10, 10, 2, 8);
+        let one = g.lines(&OutlineStyle { width: 1, ..Default::default() });
+        for j in 0..10 {
+            for i in 0..10 {
+                let border = g.at(i, j).hit && (i == 2 || i == 7 || j == 2 || j == 7);
+                assert_eq!(one[j * 10 + i], border, "width 1 at ({i}, {j})");
+            }
+        }
+        // Width 2 adds the background ring (4-neighbours of the square only).
+        let two = g.lines(&OutlineStyle::default());
+        assert!(two[2 * 10 + 1] && two[10 + 2] && !two[10 + 1] && !two[5 * 10 + 5]);
+        assert_eq!(g.coverage(), 36);
+        assert_eq!(g.mask().pixels.iter().filter(|p| p[0] == 1.0).count(), 36);
+    }
+
+    #[test]
+    fn a_depth_jump_and_a_crease_draw_lines() {
+        let mut g = square(10, 10, 0, 10);
+        // Right half pushed back: an occlusion contour between columns 4 and 5.
+        for j in 0..10 {
+            for i in 5..10 {
+                let p = &mut g.pixels[j * 10 + i];
+                p.position.z -= 5.0;
+                p.depth = 6.0;
+            }
+        }
+        let l = g.lines(&OutlineStyle { width: 1, ..Default::default() });
+        assert!((1..9).all(|j| l[j * 10 + 4] && !l[j * 10 + 5] && !l[j * 10 + 3]), "line on the near side");
+        // A crease: the lower half folded back by 90 degrees about row 4.5, positions
+        // continuous.
+        let mut g = square(10, 10, 0, 10);
+        for j in 5..10 {
+            for i in 0..10 {
+                let p = &mut g.pixels[j * 10 + i];
+                p.face_normal = Vec3::Y;
+                p.position = Vec3::new(i as f32, -4.5, 4.5 - j as f32);
+                p.depth = 1.0 + (j as f32 - 4.5);
+            }
+        }
+        let l = g.lines(&OutlineStyle { width: 1, ..Default::default() });
+        assert!((1..9).all(|i| l[4 * 10 + i] || l[5 * 10 + i]));
+        assert!((1..9).all(|i| !l[2 * 10 + i] && !l[7 * 10 + i]));
+    }
+
+    #[test]
+    fn dilation_grows_by_a_disc() {
+        let mut set = vec![false; 49];
+        set[3 * 7 + 3] = true;
+        let d = dilate(&set, 7, 7, 2);
+        assert_eq!(d.iter().filter(|&&x| x).count(), 13);
+    }
+}

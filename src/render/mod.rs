@@ -1,0 +1,453 @@
+//! The renderer: factored shading, reference shading, G-buffer, mask, outline, and an analytic
+//! GGX shader for speed comparisons.
+//!
+//! Every pass draws the same meshes with the same vertex stage (`shaders/mesh.vert`) into an
+//! RGBA32F target without multisampling, so every pass covers exactly the same pixels: the
+//! pixels of the outline and reference images are the pixels the G-buffer (and so the
+//! sampler) sees. Pixel $(i, j)$ has its centre at $(i + 0.5, j + 0.5)$, row 0 at the top.
+//!
+//! ```no_run
+//! use brdfpaint::gl::HeadlessContext;
+//! use brdfpaint::render::{mesh::uv_sphere, GpuScene, Renderer, ReferenceStyle};
+//! use brdfpaint::scene::{Camera, Light, Projection, Scene};
+//! use glam::{Mat4, Vec3};
+//!
+//! let ctx = HeadlessContext::new()?;
+//! let scene = Scene {
+//!     meshes: vec![uv_sphere(Vec3::ZERO, 1.0, 64, 32)],
+//!     camera: Camera {
+//!         world_from_camera: Mat4::from_translation(Vec3::new(0.0, 0.0, 4.0)),
+//!         projection: Projection::Perspective { yfov: 0.8, aspect: None, znear: 0.1, zfar: None },
+//!     },
+//!     light: Light::Directional { direction: Vec3::new(1.0, -1.0, -1.0), color: Vec3::ONE, intensity: 1.0 },
+//! };
+//! let mut renderer = Renderer::new(ctx.gl())?;
+//! let gpu = GpuScene::upload(ctx.gl(), &scene)?;
+//! let reference = renderer.reference(&gpu, &ReferenceStyle::default(), 256, 256)?;
+//! let g = renderer.gbuffer(&gpu, 256, 256)?; // l, v, uv per pixel for the sampler
+//! assert_eq!(g.pixels.len(), reference.pixels.len());
+//! # Ok::<(), brdfpaint::Error>(())
+//! ```
+
+mod camera;
+mod gbuffer;
+pub mod mesh;
+mod shading;
+
+use std::collections::HashMap;
+use std::time::Instant;
+
+use glam::Vec3;
+use glow::HasContext;
+
+pub use camera::{LightUniforms, View};
+pub use gbuffer::{GBuffer, GPixel, OutlineStyle};
+pub use mesh::Mesh;
+pub use shading::{CoefTexture, FactorTexture, GpuShading, Shading, Term, MAX_FACTORS, MAX_TERMS};
+
+use crate::error::{Error, Result};
+use crate::gl::{header, Framebuffer, Gl, Program};
+use crate::scene::{Camera, Light, Scene};
+
+/// The GLSL sources, compiled into the binary so `shaders/` documents exactly what runs.
+pub mod sources {
+    pub const MESH_VERT: &str = include_str!("../../shaders/mesh.vert");
+    pub const SURFACE: &str = include_str!("../../shaders/surface.glsl");
+    pub const PARAM: &str = include_str!("../../shaders/param.glsl");
+    pub const FACTORED_FRAG: &str = include_str!("../../shaders/factored.frag");
+    pub const REFERENCE_FRAG: &str = include_str!("../../shaders/reference.frag");
+    pub const GBUFFER_FRAG: &str = include_str!("../../shaders/gbuffer.frag");
+    pub const GGX_FRAG: &str = include_str!("../../shaders/ggx.frag");
+}
+
+/// A linear float RGBA image, row 0 at the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    pub width: usize,
+    pub height: usize,
+    pub pixels: Vec<[f32; 4]>,
+}
+
+impl Image {
+    /// The pixel at column `i`, row `j`.
+    pub fn at(&self, i: usize, j: usize) -> [f32; 4] {
+        self.pixels[j * self.width + i]
+    }
+}
+
+/// A scene's meshes on the GPU, with its camera and light.
+#[derive(Debug)]
+pub struct GpuScene {
+    pub meshes: Vec<Mesh>,
+    pub camera: Camera,
+    pub light: Light,
+}
+
+impl GpuScene {
+    /// Uploads every mesh of `scene`.
+    pub fn upload(gl: &Gl, scene: &Scene) -> Result<GpuScene> {
+        let meshes = scene.meshes.iter().map(|m| Mesh::upload(gl, m)).collect::<Result<Vec<_>>>()?;
+        Ok(GpuScene { meshes, camera: scene.camera, light: scene.light })
+    }
+
+    /// Total triangles.
+    pub fn triangles(&self) -> usize {
+        self.meshes.iter().map(Mesh::triangles).sum()
+    }
+}
+
+/// The standard material of the reference image: Lambert plus Phong,
+/// $c = k_a + E\,[k_d \max(\cos\theta_l, 0) + k_s \max(r \cdot v, 0)^n]$ with $E$ the
+/// light's colour × intensity × falloff × `exposure`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReferenceStyle {
+    pub ambient: Vec3,
+    pub diffuse: Vec3,
+    pub specular: Vec3,
+    pub shininess: f32,
+    /// Scales the light (glTF intensities are physical; the reference only has to show
+    /// where the light comes from).
+    pub exposure: f32,
+}
+
+impl Default for ReferenceStyle {
+    fn default() -> Self {
+        ReferenceStyle {
+            ambient: Vec3::splat(0.04),
+            diffuse: Vec3::splat(0.6),
+            specular: Vec3::splat(0.35),
+            shininess: 32.0,
+            exposure: 1.0,
+        }
+    }
+}
+
+/// Analytic Cook-Torrance with GGX, the model of [`crate::brdf::Analytic::Ggx`]
+/// ($\alpha$ = `roughness`²).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ggx {
+    pub diffuse: Vec3,
+    pub f0: Vec3,
+    pub roughness: f32,
+}
+
+impl Default for Ggx {
+    fn default() -> Self {
+        Ggx { diffuse: Vec3::new(0.45, 0.25, 0.12), f0: Vec3::splat(0.04), roughness: 0.4 }
+    }
+}
+
+/// Frame times of the factored and the analytic shader on the same mesh and image size.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct FrameTimes {
+    /// Median milliseconds per factored frame (all terms), clear to `glFinish`.
+    pub factored_ms: f64,
+    /// Median milliseconds per analytic GGX frame.
+    pub analytic_ms: f64,
+    /// `factored_ms / analytic_ms`.
+    pub ratio: f64,
+    pub frames: usize,
+    pub width: usize,
+    pub height: usize,
+    pub triangles: usize,
+}
+
+/// Draws [`GpuScene`]s with the passes of this module. Holds its programs (factored ones
+/// are compiled per term layout on first use) and an offscreen target reused while the
+/// size stays the same. Use it on the thread of its context.
+pub struct Renderer {
+    gl: Gl,
+    reference: Program,
+    gbuffer: Program,
+    ggx: Program,
+    factored: HashMap<String, Program>,
+    target: Option<Framebuffer>,
+}
+
+impl Renderer {
+    /// Compiles the fixed programs. Errors: shader compile or link failures (with the log).
+    pub fn new(gl: &Gl) -> Result<Renderer> {
+        Ok(Renderer {
+            gl: gl.clone(),
+            reference: mesh_program(gl, "reference", &[], sources::REFERENCE_FRAG)?,
+            gbuffer: mesh_program(gl, "gbuffer", &[], sources::GBUFFER_FRAG)?,
+            ggx: mesh_program(gl, "ggx", &[], sources::GGX_FRAG)?,
+            factored: HashMap::new(),
+            target: None,
+        })
+    }
+
+    /// The GL function table.
+    pub fn gl(&self) -> &Gl {
+        &self.gl
+    }
+
+    /// Uploads a shading function for [`Renderer::factored`].
+    pub fn upload(&self, shading: &Shading) -> Result<GpuShading> {
+        GpuShading::upload(&self.gl, shading)
+    }
+
+    /// The factored shading function under the scene's light:
+    /// $S(l, v, uv) \times$ colour × intensity (× $1/d^2$ for point lights). Background is
+    /// (0, 0, 0, 0); alpha is 1 on the object.
+    pub fn factored(&mut self, scene: &GpuScene, shading: &GpuShading, width: usize, height: usize) -> Result<Image> {
+        self.begin(width, height)?;
+        self.draw_factored(scene, shading, width, height)?;
+        self.read()
+    }
+
+    /// Draws the factored shading into the bound framebuffer (a window's, for the viewer),
+    /// which the caller has cleared and whose viewport covers `width` × `height`. Terms after
+    /// the first are added with blending.
+    pub fn draw_factored(&mut self, scene: &GpuScene, shading: &GpuShading, width: usize, height: usize) -> Result<()> {
+        let view = View::new(&scene.camera, width, height)?;
+        let light = LightUniforms::new(&scene.light)?;
+        for term in &shading.terms {
+            if !self.factored.contains_key(&term.key) {
+                let defines: Vec<(&str, String)> = term.defines.iter().map(|(n, v)| (*n, v.clone())).collect();
+                let program = mesh_program(&self.gl, "factored", &defines, sources::FACTORED_FRAG)?;
+                self.factored.insert(term.key.clone(), program);
+            }
+        }
+        let gl = &self.gl;
+        for (k, term) in shading.terms.iter().enumerate() {
+            let program = &self.factored[&term.key];
+            program.bind();
+            view.apply(program);
+            light.apply(program);
+            for (j, (texture, res)) in term.factors.iter().enumerate() {
+                texture.bind(j as u32);
+                program.set_i32(shading::FACTOR_UNIFORMS[j][0], j as i32);
+                program.set_f32(shading::FACTOR_UNIFORMS[j][1], *res);
+            }
+            program.set_vec3("u_map_a", term.map_a);
+            if let Some(c) = &term.coefficients {
+                c.bind(shading::COEF_UNIT);
+                program.set_i32("u_coef", shading::COEF_UNIT as i32);
+                program.set_vec2("u_coef_size", glam::Vec2::new(c.width() as f32, c.height() as f32));
+            }
+            // SAFETY: state changes on the current context.
+            unsafe {
+                if k == 0 {
+                    // First term: the nearest surface wins, written as is.
+                    gl.enable(glow::DEPTH_TEST);
+                    gl.depth_func(glow::LESS);
+                    gl.depth_mask(true);
+                    gl.disable(glow::BLEND);
+                } else {
+                    // Later terms: the same fragments again (invariant gl_Position, so equal
+                    // depths), added to the colour; alpha keeps the first pass's coverage.
+                    gl.depth_func(glow::LEQUAL);
+                    gl.depth_mask(false);
+                    gl.enable(glow::BLEND);
+                    gl.blend_equation(glow::FUNC_ADD);
+                    gl.blend_func_separate(glow::ONE, glow::ONE, glow::ZERO, glow::ONE);
+                }
+            }
+            for mesh in &scene.meshes {
+                mesh.draw(gl);
+            }
+        }
+        // SAFETY: restore the defaults the other passes assume.
+        unsafe {
+            gl.depth_mask(true);
+            gl.depth_func(glow::LESS);
+            gl.disable(glow::BLEND);
+        }
+        crate::gl::check_error(gl, "factored shading")
+    }
+
+    /// The reference image: Lambert + Phong under the scene's light (thesis 4.1).
+    /// Background (0, 0, 0, 0).
+    pub fn reference(
+        &mut self,
+        scene: &GpuScene,
+        style: &ReferenceStyle,
+        width: usize,
+        height: usize,
+    ) -> Result<Image> {
+        let view = View::new(&scene.camera, width, height)?;
+        let mut light = LightUniforms::new(&scene.light)?;
+        light.rgb *= style.exposure;
+        self.begin(width, height)?;
+        let p = &self.reference;
+        p.bind();
+        view.apply(p);
+        light.apply(p);
+        p.set_vec3("u_ambient", style.ambient);
+        p.set_vec3("u_diffuse", style.diffuse);
+        p.set_vec3("u_specular", style.specular);
+        p.set_f32("u_shininess", style.shininess);
+        self.draw_all(p, scene);
+        self.read()
+    }
+
+    /// The analytic GGX model under the scene's light, like [`Renderer::factored`].
+    pub fn ggx(&mut self, scene: &GpuScene, model: &Ggx, width: usize, height: usize) -> Result<Image> {
+        self.begin(width, height)?;
+        self.draw_ggx(scene, model, width, height)?;
+        self.read()
+    }
+
+    /// Draws the GGX model into the bound framebuffer.
+    pub fn draw_ggx(&mut self, scene: &GpuScene, model: &Ggx, width: usize, height: usize) -> Result<()> {
+        let view = View::new(&scene.camera, width, height)?;
+        let light = LightUniforms::new(&scene.light)?;
+        let p = &self.ggx;
+        p.bind();
+        view.apply(p);
+        light.apply(p);
+        p.set_vec3("u_diffuse", model.diffuse);
+        p.set_vec3("u_f0", model.f0);
+        p.set_f32("u_roughness", model.roughness);
+        self.draw_all(p, scene);
+        crate::gl::check_error(&self.gl, "GGX shading")
+    }
+
+    /// The G-buffer: six passes of the same geometry, one quantity each.
+    pub fn gbuffer(&mut self, scene: &GpuScene, width: usize, height: usize) -> Result<GBuffer> {
+        let view = View::new(&scene.camera, width, height)?;
+        let light = LightUniforms::new(&scene.light)?;
+        let mut passes: [Vec<[f32; 4]>; 6] = Default::default();
+        for (k, pass) in passes.iter_mut().enumerate() {
+            self.begin(width, height)?;
+            let p = &self.gbuffer;
+            p.bind();
+            view.apply(p);
+            light.apply(p);
+            p.set_i32("u_output", k as i32);
+            self.draw_all(p, scene);
+            *pass = self.read()?.pixels;
+        }
+        Ok(gbuffer::assemble(width, height, &passes))
+    }
+
+    /// The coverage mask: 1 where the pixel centre sees the object, else 0 (one pass).
+    pub fn mask(&mut self, scene: &GpuScene, width: usize, height: usize) -> Result<Image> {
+        let view = View::new(&scene.camera, width, height)?;
+        let light = LightUniforms::new(&scene.light)?;
+        self.begin(width, height)?;
+        let p = &self.gbuffer;
+        p.bind();
+        view.apply(p);
+        light.apply(p);
+        p.set_i32("u_output", 0);
+        self.draw_all(p, scene);
+        let mut image = self.read()?;
+        for px in &mut image.pixels {
+            *px = if px[3] > 0.5 { [1.0; 4] } else { [0.0, 0.0, 0.0, 1.0] };
+        }
+        Ok(image)
+    }
+
+    /// The coloring-book page: black silhouette, crease and occlusion lines on white.
+    pub fn outline(&mut self, scene: &GpuScene, style: &OutlineStyle, width: usize, height: usize) -> Result<Image> {
+        Ok(self.gbuffer(scene, width, height)?.outline(style))
+    }
+
+    /// Median frame times of the factored shading and the analytic GGX shader, interleaved
+    /// frame by frame, each frame a clear, the draw and `glFinish` (after `frames / 10 + 1`
+    /// untimed warm-up frames of each).
+    pub fn bench(
+        &mut self,
+        scene: &GpuScene,
+        shading: &GpuShading,
+        model: &Ggx,
+        width: usize,
+        height: usize,
+        frames: usize,
+    ) -> Result<FrameTimes> {
+        if frames == 0 {
+            return Err(Error::input("frame timing needs at least one frame"));
+        }
+        let (mut factored, mut analytic) = (Vec::with_capacity(frames), Vec::with_capacity(frames));
+        let warm = frames / 10 + 1;
+        for k in 0..warm + frames {
+            let start = Instant::now();
+            self.begin(width, height)?;
+            self.draw_factored(scene, shading, width, height)?;
+            // SAFETY: waits for the GPU on the current context.
+            unsafe { self.gl.finish() };
+            let t_factored = start.elapsed().as_secs_f64() * 1e3;
+            let start = Instant::now();
+            self.begin(width, height)?;
+            self.draw_ggx(scene, model, width, height)?;
+            // SAFETY: as above.
+            unsafe { self.gl.finish() };
+            let t_analytic = start.elapsed().as_secs_f64() * 1e3;
+            if k >= warm {
+                factored.push(t_factored);
+                analytic.push(t_analytic);
+            }
+        }
+        let (f, a) = (median(&mut factored), median(&mut analytic));
+        Ok(FrameTimes {
+            factored_ms: f,
+            analytic_ms: a,
+            ratio: f / a,
+            frames,
+            width,
+            height,
+            triangles: scene.triangles(),
+        })
+    }
+
+    /// Binds the offscreen target of this size (made or remade as needed), clears colour to
+    /// (0, 0, 0, 0) and depth to 1, enables the depth test (`LESS`), no blending, no culling
+    /// (meshes are drawn two-sided).
+    fn begin(&mut self, width: usize, height: usize) -> Result<()> {
+        let reuse = self.target.as_ref().is_some_and(|t| t.width() == width && t.height() == height);
+        if !reuse {
+            self.target = None;
+            self.target = Some(Framebuffer::new(&self.gl, width, height)?);
+        }
+        let target = self.target.as_ref().expect("made above");
+        target.bind();
+        let gl = &self.gl;
+        // SAFETY: state changes on the current context.
+        unsafe {
+            gl.clear_color(0.0, 0.0, 0.0, 0.0);
+            gl.clear_depth_f32(1.0);
+            gl.depth_mask(true);
+            gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
+            gl.enable(glow::DEPTH_TEST);
+            gl.depth_func(glow::LESS);
+            gl.disable(glow::BLEND);
+            gl.disable(glow::CULL_FACE);
+            gl.disable(glow::SCISSOR_TEST);
+        }
+        crate::gl_check!(gl, "target setup");
+        Ok(())
+    }
+
+    fn draw_all(&self, program: &Program, scene: &GpuScene) {
+        program.bind();
+        for mesh in &scene.meshes {
+            mesh.draw(&self.gl);
+        }
+    }
+
+    fn read(&self) -> Result<Image> {
+        let target = self.target.as_ref().ok_or_else(|| Error::Gl("nothing was rendered".into()))?;
+        Ok(Image { width: target.width(), height: target.height(), pixels: target.read()? })
+    }
+}
+
+/// A program of the shared vertex stage and a fragment stage that uses `surface()` (and the
+/// parameterizations), with `defines` prepended to both.
+fn mesh_program(gl: &Gl, name: &str, defines: &[(&str, String)], fragment: &str) -> Result<Program> {
+    let head = header(gl, defines);
+    let vs = format!("{head}{}", sources::MESH_VERT);
+    let fs = format!("{head}{}\n{}\n{fragment}", sources::SURFACE, sources::PARAM);
+    Program::new(gl, name, &vs, &fs)
+}
+
+fn median(x: &mut [f64]) -> f64 {
+    x.sort_by(f64::total_cmp);
+    let n = x.len();
+    if n % 2 == 1 {
+        x[n / 2]
+    } else {
+        0.5 * (x[n / 2 - 1] + x[n / 2])
+    }
+}

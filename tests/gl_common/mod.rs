@@ -1,0 +1,158 @@
+//! Helpers shared by the GL integration tests: analytic sphere scenes and an independent CPU
+//! evaluation of factored shading functions through `brdfpaint::factor`.
+#![allow(dead_code)]
+
+use brdfpaint::factor::{system, table, Domain, FactorSpec, Input, Param, Query};
+use brdfpaint::render::{mesh::uv_sphere, CoefTexture, FactorTexture, Shading};
+use brdfpaint::scene::{Camera, Light, Projection, Scene};
+use glam::{DVec3, Mat4, Vec3, Vec4};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Sphere tessellation used by the tests: fine enough that the polygon's silhouette is
+/// within 0.01 px of the circle at the image sizes used (r (1 - cos(pi/256)) = 7.5e-5 r).
+pub const SEGMENTS: usize = 256;
+pub const RINGS: usize = 128;
+
+/// Camera basis of `src/brdf/sphere.rs`: right, up, back (toward the camera).
+pub fn basis(back: DVec3) -> (DVec3, DVec3, DVec3) {
+    let back = back.normalize();
+    let helper = if back.y.abs() > 0.999 { DVec3::Z } else { DVec3::Y };
+    let right = helper.cross(back).normalize();
+    (right, back.cross(right), back)
+}
+
+/// world_from_camera for a camera at `eye` looking at the origin with the basis above.
+pub fn looking_at_origin(eye: DVec3) -> Mat4 {
+    let (r, u, b) = basis(eye);
+    let f = |v: DVec3, w: f32| Vec4::new(v.x as f32, v.y as f32, v.z as f32, w);
+    Mat4::from_cols(f(r, 0.0), f(u, 0.0), f(b, 0.0), f(eye, 1.0))
+}
+
+/// The unit sphere seen orthographically from direction `camera` with the view volume of
+/// `brdf::SphereView` (ymag = 1, so the sphere just fills a square image).
+pub fn ortho_sphere(camera: DVec3, light: Light) -> Scene {
+    Scene {
+        meshes: vec![uv_sphere(Vec3::ZERO, 1.0, SEGMENTS, RINGS)],
+        camera: Camera {
+            world_from_camera: looking_at_origin(camera.normalize() * 3.0),
+            projection: Projection::Orthographic { xmag: 1.0, ymag: 1.0, znear: 0.5, zfar: 10.0 },
+        },
+        light,
+    }
+}
+
+/// The unit sphere seen in perspective from `eye`.
+pub fn perspective_sphere(eye: DVec3, yfov: f32, light: Light) -> Scene {
+    Scene {
+        meshes: vec![uv_sphere(Vec3::ZERO, 1.0, SEGMENTS, RINGS)],
+        camera: Camera {
+            world_from_camera: looking_at_origin(eye),
+            projection: Projection::Perspective { yfov, aspect: None, znear: 0.1, zfar: Some(100.0) },
+        },
+        light,
+    }
+}
+
+/// A white directional light arriving from direction `toward` (pointing at the light).
+pub fn sun(toward: DVec3, rgb: [f32; 3]) -> Light {
+    let t = toward.normalize();
+    Light::Directional {
+        direction: -Vec3::new(t.x as f32, t.y as f32, t.z as f32),
+        color: Vec3::from_array(rgb),
+        intensity: 1.0,
+    }
+}
+
+/// The analytic pixel-centre geometry of an orthographic `res`² view of the unit sphere
+/// (as `brdf::SphereView`): `Some(world normal)` where the centre ray hits.
+pub fn sphere_normal(camera: DVec3, res: usize, i: usize, j: usize) -> Option<DVec3> {
+    let (right, up, back) = basis(camera);
+    let x = 2.0 * (i as f64 + 0.5) / res as f64 - 1.0;
+    let y = 1.0 - 2.0 * (j as f64 + 0.5) / res as f64;
+    let rr = x * x + y * y;
+    (rr < 1.0).then(|| right * x + up * y + back * (1.0 - rr).sqrt())
+}
+
+pub fn spec(input: Input, param: Param, domain: Domain, res: usize) -> FactorSpec {
+    FactorSpec { input, param, domain, res, smooth: 0.0, damp: 0.0, ridge: 0.0 }
+}
+
+/// A table of independent random values in [0.3, 1.3] per node and channel: the hardest
+/// case for interpolation agreement.
+pub fn random_factor(spec: FactorSpec, seed: u64) -> FactorTexture {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let texels = (0..spec.len()).map(|_| [0; 3].map(|_| rng.random_range(0.3f32..1.3))).collect();
+    FactorTexture { spec, texels }
+}
+
+/// A smooth table, $0.7 + 0.3 \cos(2 t_x + c) \cos(1.5 t_y + c)$ per channel $c$.
+pub fn smooth_factor(spec: FactorSpec) -> FactorTexture {
+    let m = spec.res;
+    let dim = spec.dim();
+    let texels = (0..spec.len())
+        .map(|k| {
+            let tx = (k % m) as f64 / (m - 1) as f64;
+            let ty = if dim == 2 { (k / m) as f64 / (m - 1) as f64 } else { 0.0 };
+            [0, 1, 2].map(|c| (0.7 + 0.3 * (2.0 * tx + c as f64).cos() * (1.5 * ty + c as f64).cos()) as f32)
+        })
+        .collect();
+    FactorTexture { spec, texels }
+}
+
+/// Bilinear node-based lookup of a coefficient texture (independent of the renderer).
+pub fn coef_lookup(c: &CoefTexture, uv: [f64; 2]) -> [f64; 3] {
+    let axis = |t: f64, n: usize| -> (usize, usize, f64) {
+        if n == 1 {
+            return (0, 0, 0.0);
+        }
+        let x = t.clamp(0.0, 1.0) * (n - 1) as f64;
+        let i = (x.floor() as usize).min(n - 2);
+        (i, i + 1, x - i as f64)
+    };
+    let (x0, x1, fx) = axis(uv[0], c.width);
+    let (y0, y1, fy) = axis(uv[1], c.height);
+    let at = |x: usize, y: usize| c.texels[y * c.width + x].map(|v| v as f64);
+    let (a, b, cc, d) = (at(x0, y0), at(x1, y0), at(x0, y1), at(x1, y1));
+    [0, 1, 2]
+        .map(|k| (1.0 - fx) * (1.0 - fy) * a[k] + fx * (1.0 - fy) * b[k] + (1.0 - fx) * fy * cc[k] + fx * fy * d[k])
+}
+
+/// $S(q)$ of a shading function on the CPU, in f64, through `brdfpaint::factor`: table
+/// coordinates from `system::coordinate`, linear/bilinear lookups from `table`, the
+/// mapping's `inverse`, the coefficient texture bilinearly.
+pub fn cpu_shading(shading: &Shading, q: &Query) -> [f64; 3] {
+    let mut sum = [0.0; 3];
+    for term in &shading.terms {
+        let mut prod = [1.0f64; 3];
+        for f in &term.factors {
+            let t = system::coordinate(&f.spec, q);
+            let table: Vec<[f64; 3]> = f.texels.iter().map(|x| x.map(|v| v as f64)).collect();
+            let value = if f.spec.dim() == 1 {
+                table::lookup_1d(&table, t[0])
+            } else {
+                table::lookup_2d(&table, f.spec.res, t)
+            };
+            for c in 0..3 {
+                prod[c] *= value[c];
+            }
+        }
+        let coef = term.coefficients.as_ref().map_or([1.0; 3], |c| coef_lookup(c, [q.uv.x, q.uv.y]));
+        for c in 0..3 {
+            // The renderer clamps every mapping at zero; LogMap::inverse clamps offset and
+            // inverted, and identity products are positive.
+            sum[c] += term.map.inverse(c, prod[c]).max(0.0) * coef[c];
+        }
+    }
+    sum
+}
+
+/// Largest error of `got` against `want` relative to `scale`, over channels.
+pub fn rel_err(got: [f32; 4], want: [f64; 3], scale: f64) -> f64 {
+    (0..3).map(|c| (got[c] as f64 - want[c]).abs() / scale).fold(0.0, f64::max)
+}
+
+/// Query at a G-buffer pixel, with Input::Custom excluded (not renderable).
+pub fn uses_custom(spec: &FactorSpec) -> bool {
+    matches!(spec.input, Input::Custom(_))
+}
