@@ -2,6 +2,7 @@ use brdfpaint::bench::median_time;
 use brdfpaint::brdf::{Analytic, SphereView};
 use brdfpaint::factor::{prepare, LogMap, Settings};
 fn main() {
+    if std::env::var("SEQ").is_ok() { faer::set_global_parallelism(faer::Par::Seq); }
     let args: Vec<String> = std::env::args().collect();
     let (dim, res, img): (usize, usize, usize) = (args[1].parse().unwrap(), args[2].parse().unwrap(), args[3].parse().unwrap());
     let pattern = SphereView::new(glam::DVec3::new(-0.5, 0.5, 1.0), img).pattern();

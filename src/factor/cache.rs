@@ -110,7 +110,7 @@ fn store(prepared: &Prepared, key: u64) -> Vec<u8> {
             p.u64(0);
             p.mat(inv);
         }
-        Solver::Sparse(_, g) => {
+        Solver::Sparse(_, g) | Solver::Schur(_, g) => {
             p.u64(1);
             p.u64(g.n as u64);
             p.u64(g.row.len() as u64);
@@ -179,7 +179,7 @@ fn load(bytes: &[u8], key: u64, pattern: &Pattern, settings: &Settings) -> std::
             if !sorted {
                 return Err("malformed sparse matrix".into());
             }
-            factor(&SymCsc { n, col_ptr, row, val }, settings.method).map_err(|e| e.to_string())?
+            factor(&SymCsc { n, col_ptr, row, val }, settings, &design.offsets).map_err(|e| e.to_string())?
         }
         2 => {
             let basis = r.mat(n)?;

@@ -18,6 +18,7 @@ pub mod mapping;
 pub mod param;
 mod pattern;
 mod prepared;
+mod schur;
 mod settings;
 pub mod system;
 pub mod table;

@@ -21,6 +21,7 @@ use faer::{Accum, Mat, Par, Side};
 use super::mapping::{LogMap, Mapping};
 use super::pattern::{Pattern, Query};
 use super::settings::{Method, Settings};
+use super::schur::{self, Schur};
 use super::system::{self, Design, SymCsc};
 use crate::error::{Error, Result};
 
@@ -54,6 +55,9 @@ pub(crate) enum Solver {
     Dense(Mat<f64>),
     /// Sparse supernodal Cholesky of $\mathbf G$ (with $\mathbf G$ kept for the cache).
     Sparse(Box<faer::sparse::linalg::solvers::Llt<usize, f64>>, SymCsc),
+    /// The block solver for one large table beside small ones (with $\mathbf G$ kept for
+    /// the cache).
+    Schur(Box<Schur>, SymCsc),
     /// A filtered pseudo-inverse.
     Spectral(Spectral),
 }
@@ -194,11 +198,13 @@ impl Prepared {
         self.design.n
     }
 
-    /// Which factorization was chosen: "dense", "sparse" or "spectral".
+    /// Which factorization was chosen: "dense", "sparse", "block" (dense and sparse blocks,
+    /// for one large table) or "spectral".
     pub fn solver_kind(&self) -> &'static str {
         match self.solver {
             Solver::Dense(_) => "dense",
             Solver::Sparse(..) => "sparse",
+            Solver::Schur(..) => "block",
             Solver::Spectral(_) => "spectral",
         }
     }
@@ -271,6 +277,7 @@ impl Prepared {
                 llt.solve_in_place(&mut y);
                 y
             }
+            Solver::Schur(s, _) => s.solve(b),
             Solver::Spectral(s) => &s.operator * b,
         };
         crate::util::clear_upper_vector_state();
@@ -390,7 +397,7 @@ pub fn prepare(pattern: &Pattern, settings: &Settings) -> Result<Prepared> {
         bar.set_message("factoring");
         bar.enable_steady_tick(std::time::Duration::from_millis(100));
     }
-    let solver = factor(&g, settings.method);
+    let solver = factor(&g, settings, &design.offsets);
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
@@ -415,6 +422,7 @@ fn progress_bar(design: &Design) -> Option<indicatif::ProgressBar> {
 
 /// The error for a Cholesky factorization that met a non-positive pivot.
 fn not_spd<E>(_: E) -> Error {
+    // The argument is the failing factorization's own error, which says nothing a user can act on.
     Error::Numeric(
         "the normal equations are not positive definite; add smoothing or damping, or check \
          that every factor's table is reached by samples"
@@ -422,15 +430,21 @@ fn not_spd<E>(_: E) -> Error {
     )
 }
 
-/// Factor G by the method (and, for Cholesky, the cheaper of dense and sparse).
-pub(crate) fn factor(g: &SymCsc, method: Method) -> Result<Solver> {
-    if method != Method::Cholesky {
-        return Ok(Solver::Spectral(Spectral::new(g, method)?));
+/// Factor G by the method (and, for Cholesky, the cheapest of dense, block and sparse).
+pub(crate) fn factor(g: &SymCsc, settings: &Settings, offsets: &[usize]) -> Result<Solver> {
+    if settings.method != Method::Cholesky {
+        return Ok(Solver::Spectral(Spectral::new(g, settings.method)?));
     }
     if g.n <= DENSE_ALWAYS || g.density() >= DENSE_FILL {
         let dense = g.to_dense();
         let llt = dense.llt(Side::Lower).map_err(not_spd)?;
         return Ok(Solver::Dense(llt.inverse()));
+    }
+    // One large table beside small ones (the four-factor product): the block solver.
+    let (big, len) = settings.factors.iter().map(|f| f.len()).enumerate().max_by_key(|&(_, l)| l).unwrap_or((0, 0));
+    if (512..=schur::MAX_SPARSE).contains(&len) && g.n - len <= schur::MAX_DENSE {
+        let sparse = (offsets[big]..offsets[big] + len).collect();
+        return Ok(Solver::Schur(Box::new(Schur::new(g, sparse, |what| not_spd(what))?), g.clone()));
     }
     let symbolic = SymbolicSparseColMat::new_checked(g.n, g.n, g.col_ptr.clone(), None, g.row.clone());
     let mat = SparseColMat::new(symbolic, g.val.clone());
