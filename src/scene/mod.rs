@@ -50,3 +50,48 @@ pub struct Scene {
     pub camera: Camera,
     pub light: Light,
 }
+
+impl Camera {
+    /// The camera's position in world space.
+    pub fn position(&self) -> Vec3 {
+        self.world_from_camera.w_axis.truncate()
+    }
+
+    /// The unit direction the camera looks along (its node's -Z), world space.
+    pub fn forward(&self) -> Vec3 {
+        self.world_from_camera.transform_vector3(-Vec3::Z).normalize()
+    }
+
+    /// The inverse of [`Camera::world_from_camera`].
+    pub fn camera_from_world(&self) -> Mat4 {
+        self.world_from_camera.inverse()
+    }
+}
+
+impl Scene {
+    /// The sphere around all vertices of all meshes ([`BoundingSphere::of`]); `None` when there
+    /// are no vertices.
+    pub fn bounding_sphere(&self) -> Option<BoundingSphere> {
+        BoundingSphere::of(&self.meshes)
+    }
+}
+
+/// Loads a glTF 2.0 scene (.gltf or .glb); see [`Scene::load`].
+pub fn load(path: impl AsRef<std::path::Path>) -> crate::Result<Scene> {
+    Scene::load(path)
+}
+
+/// Writes `scene` as one self-contained .gltf file; see [`Scene::write_gltf`].
+pub fn write_gltf(scene: &Scene, path: impl AsRef<std::path::Path>) -> crate::Result<()> {
+    scene.write_gltf(path)
+}
+
+mod load;
+mod mesh;
+pub mod preset;
+mod write;
+
+pub use mesh::BoundingSphere;
+pub use preset::{
+    builtin_model, builtin_models, frame, model_meshes, preset, preset_names, presets, sphere_mesh, Preset,
+};
