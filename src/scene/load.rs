@@ -95,12 +95,19 @@ impl Loaded {
         if bytes.is_empty() {
             return Err(Error::format(path, "empty file"));
         }
-        let gltf = gltf::Gltf::from_slice(bytes)
-            .map_err(|e| Error::format(path, format!("not a valid glTF 2.0 file: {e}")))?;
+        let corrupt = |e: gltf::Error| Error::format(path, format!("corrupt, truncated or not glTF 2.0: {e}"));
+        // Required extensions are checked before validation, which would only say
+        // "Unsupported extension".
+        let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(corrupt)?;
         let document = gltf.document;
         if let Some(ext) = document.extensions_required().find(|e| !extension_is_harmless(e)) {
-            return Err(Error::format(path, format!("requires the unsupported glTF extension {ext}")));
+            return Err(Error::format(
+                path,
+                format!("requires the unsupported glTF extension {ext} (re-export the file without it, e.g. with Blender)"),
+            ));
         }
+        let document = gltf::Document::from_json(document.into_json())
+            .map_err(|e| Error::format(path, format!("not a valid glTF 2.0 file: {e}")))?;
         check_external_files(path, base, &document)?;
         let buffers = gltf::import_buffers(&document, base, gltf.blob)
             .map_err(|e| Error::format(path, format!("cannot read buffer data: {e}")))?;
@@ -495,7 +502,11 @@ impl Walker<'_> {
     fn primitive(&mut self, primitive: &gltf::Primitive, what: &str) -> Result<Option<CpuMesh>> {
         let mode = primitive.mode();
         if matches!(mode, Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip) {
-            self.skipped.push(format!("{what} ({mode:?})"));
+            let skipped = format!("{what} ({mode:?})");
+            // A mesh used by several nodes is read once per node; name it once.
+            if !self.skipped.contains(&skipped) {
+                self.skipped.push(skipped);
+            }
             return Ok(None);
         }
         let bad = |reason: String| Error::format(self.path, format!("{what}: {reason}"));
