@@ -535,7 +535,7 @@ impl Walker<'_> {
                 let normals: Vec<Vec3> = reader
                     .read_normals()
                     .ok_or_else(|| bad("NORMAL data lies outside its buffer".into()))?
-                    .map(|n| Vec3::from_array(n).normalize_or(Vec3::Z))
+                    .map(|n| unit_or(Vec3::from_array(n), Vec3::Z))
                     .collect();
                 check_count(normals.len(), n, "NORMAL").map_err(&bad)?;
                 normals
@@ -552,7 +552,7 @@ impl Walker<'_> {
                     .map(|t| {
                         // w is ±1 by the spec; snap anything else to its sign.
                         let w = if t[3] < 0.0 { -1.0 } else { 1.0 };
-                        Vec3::new(t[0], t[1], t[2]).normalize_or(Vec3::X).extend(w)
+                        unit_or(Vec3::new(t[0], t[1], t[2]), Vec3::X).extend(w)
                     })
                     .collect();
                 check_count(tangents.len(), n, "TANGENT").map_err(&bad)?;
@@ -684,6 +684,16 @@ fn check_range(
     let view_end = view.offset().checked_add(view.length())?;
     let data = buffers.get(view.buffer().index())?;
     (end <= view.length() && view_end <= data.0.len()).then_some(())
+}
+
+/// `v` normalized, or `fallback` when it has no direction. Vectors already unit to float
+/// rounding are kept bit for bit, so a written scene loads back unchanged.
+fn unit_or(v: Vec3, fallback: Vec3) -> Vec3 {
+    if (v.length_squared() - 1.0).abs() <= 1e-6 {
+        v
+    } else {
+        v.normalize_or(fallback)
+    }
 }
 
 fn check_count(got: usize, expected: usize, name: &str) -> std::result::Result<(), String> {
