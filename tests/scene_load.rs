@@ -347,8 +347,9 @@ fn loads_every_shared_model() {
     // (file, vertices, triangles, world AABB min, max, has uvs), computed independently from
     // the files' JSON and binary data (node transforms applied; skins in rest pose, which for
     // the fox is the identity to 1e-5).
+    type Expected = (&'static str, usize, usize, [f32; 3], [f32; 3], bool);
     #[rustfmt::skip]
-    let expected: &[(&str, usize, usize, [f32; 3], [f32; 3], bool)] = &[
+    let expected: &[Expected] = &[
         ("khronos_boxtextured/BoxTextured.glb", 24, 12, [-0.5, -0.5, -0.5], [0.5, 0.5, 0.5], true),
         ("khronos_duck/Duck.glb", 2399, 4212, [-0.692985, 0.0992937, -0.613282], [0.961799, 1.6397, 0.539252], true),
         ("khronos_fox/Fox.gltf", 1728, 576, [-12.5927, -0.121745, -88.095], [12.5927, 78.9072, 66.6249], true),

@@ -354,7 +354,8 @@ impl Walker<'_> {
                     }
                 }
                 if let Some(f) = p.zfar() {
-                    if !(f > znear) {
+                    // NaN fails too.
+                    if f.is_nan() || f <= znear {
                         return Err(bad(format!("zfar {f} is not beyond znear {znear}")));
                     }
                 }

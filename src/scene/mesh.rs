@@ -371,11 +371,30 @@ mod tests {
         cube.ensure_tangents().unwrap();
         let t = cube.tangents.as_ref().unwrap();
         assert_eq!(t.len(), cube.positions.len());
+        // Face k of `split_cube` has axes (n, u, v), 4 vertices each, position n + a u + b v and
+        // uv (0.5 + 0.5 a, 0.5 + 0.5 b): texture u runs along the face's u axis.
+        let axes = [
+            (Vec3::X, Vec3::Y, Vec3::Z),
+            (-Vec3::X, Vec3::Z, Vec3::Y),
+            (Vec3::Y, Vec3::Z, Vec3::X),
+            (-Vec3::Y, Vec3::X, Vec3::Z),
+            (Vec3::Z, Vec3::X, Vec3::Y),
+            (-Vec3::Z, Vec3::Y, Vec3::X),
+        ];
         for (i, t) in t.iter().enumerate() {
-            assert!((t.truncate().length() - 1.0).abs() < 1e-4, "tangent {t} at vertex {i}");
-            assert!(t.w == 1.0 || t.w == -1.0, "w = {} at vertex {i}", t.w);
-            // Orthogonal to the (smooth) normal: MikkTSpace projects onto the tangent plane.
-            assert!(t.truncate().dot(cube.normals[i]).abs() < 1e-4);
+            let n = cube.normals[i];
+            let (_, u, v) = axes[i / 4];
+            // The face's u axis projected onto the tangent plane of the (smooth, diagonal)
+            // vertex normal: MikkTSpace's tangent.
+            let expected = (u - u.dot(n) * n).normalize();
+            assert!((t.truncate() - expected).length() < 1e-4, "tangent {t} at vertex {i}, expected {expected}");
+            assert!(t.truncate().dot(n).abs() < 1e-5);
+            // Seen from outside (n towards the viewer) u is right and texture v runs up the
+            // screen along v, while glTF's v runs down the image: the layout is mirrored, so
+            // w = -1 and the bitangent (n × t) w points along -v (towards decreasing v).
+            assert_eq!(t.w, -1.0, "w at vertex {i}");
+            let bitangent = n.cross(t.truncate()) * t.w;
+            assert!(bitangent.dot(-v) > 0.7, "bitangent {bitangent} at vertex {i}");
         }
     }
 

@@ -1,6 +1,17 @@
 //! Scenes: meshes (node transforms applied), one camera and one light, loaded from glTF 2.0
 //! or built from presets. Conventions are fixed by DESIGN.md: the camera looks along -Z of its
 //! node with +Y up; the light is KHR_lights_punctual (directional or point, 1/d² falloff).
+//!
+//! - [`load`] / [`Scene::load`]: a .gltf or .glb scene; [`Scene::load_model`] /
+//!   [`model_meshes`]: only its meshes.
+//! - [`Scene::from_preset`]: a built-in model ([`builtin_models`]) or any model file, framed
+//!   for a standard view and light ([`presets`], thesis 4.1).
+//! - [`write_gltf`] / [`Scene::write_gltf`]: one self-contained scene.gltf that loads back as
+//!   the same scene.
+//!
+//! Tangent frames follow glTF: tangent along increasing $u$, bitangent $(n \times t)\,w$
+//! towards decreasing $v$ (up the texture image). On the built-in sphere this is the frame of
+//! [`crate::brdf::SphereView::frame`].
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
