@@ -1,6 +1,17 @@
 //! Scenes: meshes (node transforms applied), one camera and one light, loaded from glTF 2.0
 //! or built from presets. Conventions are fixed by DESIGN.md: the camera looks along -Z of its
 //! node with +Y up; the light is KHR_lights_punctual (directional or point, 1/d² falloff).
+//!
+//! - [`load`] / [`Scene::load`]: a .gltf or .glb scene; [`Scene::load_model`] /
+//!   [`model_meshes`]: only its meshes.
+//! - [`Scene::from_preset`]: a built-in model ([`builtin_models`]) or any model file, framed
+//!   for a standard view and light ([`presets`], thesis 4.1).
+//! - [`write_gltf`] / [`Scene::write_gltf`]: one self-contained scene.gltf that loads back as
+//!   the same scene.
+//!
+//! Tangent frames follow glTF: tangent along increasing $u$, bitangent $(n \times t)\,w$
+//! towards decreasing $v$ (up the texture image). On the built-in sphere this is the frame of
+//! [`crate::brdf::SphereView::frame`].
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
@@ -50,3 +61,48 @@ pub struct Scene {
     pub camera: Camera,
     pub light: Light,
 }
+
+impl Camera {
+    /// The camera's position in world space.
+    pub fn position(&self) -> Vec3 {
+        self.world_from_camera.w_axis.truncate()
+    }
+
+    /// The unit direction the camera looks along (its node's -Z), world space.
+    pub fn forward(&self) -> Vec3 {
+        self.world_from_camera.transform_vector3(-Vec3::Z).normalize()
+    }
+
+    /// The inverse of [`Camera::world_from_camera`].
+    pub fn camera_from_world(&self) -> Mat4 {
+        self.world_from_camera.inverse()
+    }
+}
+
+impl Scene {
+    /// The sphere around all vertices of all meshes ([`BoundingSphere::of`]); `None` when there
+    /// are no vertices.
+    pub fn bounding_sphere(&self) -> Option<BoundingSphere> {
+        BoundingSphere::of(&self.meshes)
+    }
+}
+
+/// Loads a glTF 2.0 scene (.gltf or .glb); see [`Scene::load`].
+pub fn load(path: impl AsRef<std::path::Path>) -> crate::Result<Scene> {
+    Scene::load(path)
+}
+
+/// Writes `scene` as one self-contained .gltf file; see [`Scene::write_gltf`].
+pub fn write_gltf(scene: &Scene, path: impl AsRef<std::path::Path>) -> crate::Result<()> {
+    scene.write_gltf(path)
+}
+
+mod load;
+mod mesh;
+pub mod preset;
+mod write;
+
+pub use mesh::BoundingSphere;
+pub use preset::{
+    builtin_model, builtin_models, frame, model_meshes, preset, preset_names, presets, sphere_mesh, Preset,
+};
