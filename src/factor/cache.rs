@@ -292,13 +292,23 @@ mod tests {
         case(&Settings::default());
     }
 
+    /// The solver a settings choose on the standard test pattern.
+    fn kind(s: &Settings) -> &'static str {
+        let pattern = SphereView::new(DVec3::Z, 40).pattern();
+        crate::factor::prepare(&pattern, s).unwrap().solver_kind()
+    }
+
     #[test]
     fn sparse_systems_round_trip_and_corruption_is_rebuilt() {
+        let s = Settings::uniform(2, 32);
+        assert_eq!(kind(&s), "sparse", "this case must exercise the sparse path");
+        case(&s);
+    }
+
+    #[test]
+    fn block_systems_round_trip_and_corruption_is_rebuilt() {
         let s = Settings::four_factor(1, 32, 48);
-        let dir = tempfile::tempdir().unwrap();
-        let pattern = SphereView::new(DVec3::Z, 40).pattern();
-        let (p, _) = Cache::new(dir.path()).prepare(&pattern, &s).unwrap();
-        assert_eq!(p.solver_kind(), "sparse", "this case must exercise the sparse path");
+        assert_eq!(kind(&s), "block", "this case must exercise the block path");
         case(&s);
     }
 

@@ -19,6 +19,7 @@ pub mod param;
 mod pattern;
 mod prepared;
 mod schur;
+mod sparse;
 mod settings;
 pub mod system;
 pub mod table;

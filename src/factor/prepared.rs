@@ -14,14 +14,14 @@
 
 use std::time::Instant;
 
-use faer::linalg::solvers::{DenseSolveCore, Solve};
-use faer::sparse::{SparseColMat, SymbolicSparseColMat};
+use faer::linalg::solvers::DenseSolveCore;
 use faer::{Accum, Mat, Par, Side};
 
 use super::mapping::{LogMap, Mapping};
 use super::pattern::{Pattern, Query};
 use super::settings::{Method, Settings};
 use super::schur::{self, Schur};
+use super::sparse::SparseLlt;
 use super::system::{self, Design, SymCsc};
 use crate::error::{Error, Result};
 
@@ -54,7 +54,7 @@ pub(crate) enum Solver {
     /// $\mathbf G^{-1}$, dense.
     Dense(Mat<f64>),
     /// Sparse supernodal Cholesky of $\mathbf G$ (with $\mathbf G$ kept for the cache).
-    Sparse(Box<faer::sparse::linalg::solvers::Llt<usize, f64>>, SymCsc),
+    Sparse(Box<SparseLlt>, SymCsc),
     /// The block solver for one large table beside small ones (with $\mathbf G$ kept for
     /// the cache).
     Schur(Box<Schur>, SymCsc),
@@ -446,12 +446,8 @@ pub(crate) fn factor(g: &SymCsc, settings: &Settings, offsets: &[usize]) -> Resu
         let sparse = (offsets[big]..offsets[big] + len).collect();
         return Ok(Solver::Schur(Box::new(Schur::new(g, sparse, |what| not_spd(what))?), g.clone()));
     }
-    let symbolic = SymbolicSparseColMat::new_checked(g.n, g.n, g.col_ptr.clone(), None, g.row.clone());
-    let mat = SparseColMat::new(symbolic, g.val.clone());
-    let sym = faer::sparse::linalg::solvers::SymbolicLlt::try_new(mat.symbolic(), Side::Lower)
-        .map_err(|e| Error::Numeric(format!("symbolic factorization failed: {e:?}")))?;
-    let llt = faer::sparse::linalg::solvers::Llt::try_new_with_symbolic(sym, mat.as_ref(), Side::Lower)
-        .map_err(not_spd)?;
+    let llt = SparseLlt::new(g.n, g.col_ptr.clone(), g.row.clone(), g.val.clone())
+        .map_err(|e| e.unwrap_or_else(|| not_spd(())))?;
     Ok(Solver::Sparse(Box::new(llt), g.clone()))
 }
 

@@ -15,10 +15,10 @@
 //! Cholesky factor stays small; the small factors couple to everything, and a general sparse
 //! ordering pays for that coupling on every solve, while here it is one dense product.
 
-use faer::linalg::solvers::{DenseSolveCore, Solve};
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, SymbolicSparseColMat};
+use faer::linalg::solvers::DenseSolveCore;
 use faer::{Accum, Mat, Par, Side};
+
+use super::sparse::SparseLlt;
 
 use super::system::SymCsc;
 use crate::error::{Error, Result};
@@ -33,7 +33,7 @@ pub(crate) struct Schur {
     dense: Vec<usize>,
     sparse: Vec<usize>,
     /// Cholesky factor of $\mathbf G_{22}$.
-    g22: Box<Llt<usize, f64>>,
+    g22: SparseLlt,
     /// $\mathbf G_{12}$ by columns of set 2: (row in set 1, value).
     g12: Vec<Vec<(u32, f64)>>,
     /// $\mathbf X = \mathbf G_{22}^{-1} \mathbf G_{21}$, n₂ × n₁.
@@ -86,17 +86,13 @@ impl Schur {
         }
         // G's columns list rows in ascending global order, and set 2 is sorted, so the rows
         // of each G22 column are ascending too.
-        let symbolic = SymbolicSparseColMat::new_checked(n2, n2, col_ptr, None, rows);
-        let g22 = SparseColMat::new(symbolic, vals);
-        let sym = SymbolicLlt::try_new(g22.symbolic(), Side::Lower)
-            .map_err(|e| Error::Numeric(format!("symbolic factorization failed: {e:?}")))?;
-        let llt = Llt::try_new_with_symbolic(sym, g22.as_ref(), Side::Lower).map_err(|_| not_spd("sparse block"))?;
+        let llt = SparseLlt::new(n2, col_ptr, rows, vals).map_err(|e| e.unwrap_or_else(|| not_spd("sparse block")))?;
         let mut x = g21.clone();
         llt.solve_in_place(&mut x);
         let mut s = g11;
         faer::linalg::matmul::matmul(&mut s, Accum::Add, g21.transpose(), &x, -1.0, Par::rayon(0));
         let s_inv = s.llt(Side::Lower).map_err(|_| not_spd("Schur complement"))?.inverse();
-        Ok(Schur { dense, sparse, g22: Box::new(llt), g12, x, s_inv })
+        Ok(Schur { dense, sparse, g22: llt, g12, x, s_inv })
     }
 
     /// $\mathbf y = \mathbf G^{-1} \mathbf b$ for an n × 3 right-hand side.
