@@ -131,7 +131,7 @@ pub fn factor_cases(quick: bool) -> Result<Vec<Case>> {
         let pattern = sphere_pattern(target);
         for (res, svd, fast) in t52 {
             let mut c = measure(
-                format!("table5.2 3x2D M={res} {}k samples", (target as f64 / 1000.0).round()),
+                format!("table5.2 3x2D M={res} {} samples", if target < 1000 { target.to_string() } else { format!("{}k", target / 1000) }),
                 &pattern,
                 &Settings::uniform(2, res),
                 res,
