@@ -183,11 +183,23 @@ impl Mapping {
 /// instead of SSE2's two; the log is most of a refit's time), else portable code.
 pub fn ln_all(x: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx512f") {
+        // SAFETY: the CPU has AVX-512F, checked just above.
+        unsafe { ln_all_avx512(x) };
+        return;
+    }
+    #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
         // SAFETY: the CPU has AVX2 and FMA, checked just above.
         unsafe { ln_all_avx2(x) };
         return;
     }
+    x.iter_mut().for_each(|v| *v = fast_ln(*v));
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn ln_all_avx512(x: &mut [f64]) {
     x.iter_mut().for_each(|v| *v = fast_ln(*v));
 }
 
