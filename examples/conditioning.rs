@@ -4,7 +4,7 @@
 //! `cargo run --release --example conditioning [-- sweep]`
 
 use brdfpaint::brdf::{held_out_views, painted_views, relative_rms, Analytic, SphereView};
-use brdfpaint::factor::{prepare, Mapping, Pattern, Settings};
+use brdfpaint::factor::{defaults, prepare, Mapping, Pattern, Settings};
 
 fn training(n: usize, res: usize) -> Vec<SphereView> {
     painted_views(n, res)
@@ -51,7 +51,7 @@ fn main() {
     let sweep = std::env::args().any(|a| a == "sweep");
     for views in [1, 3] {
         for dim in [1, 2] {
-            let s = Settings::uniform(dim, if dim == 1 { 64 } else { 24 });
+            let s = Settings::uniform(dim, if dim == 1 { defaults::RES_1D } else { defaults::RES_2D });
             println!("{views} view(s), {dim}D defaults:");
             let m = study(&s, views, Mapping::Auto, true);
             println!("  median held-out {m:.4}");
