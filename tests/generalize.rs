@@ -5,18 +5,22 @@
 use brdfpaint::brdf::{held_out_views, painted_views, relative_rms, Analytic};
 use brdfpaint::factor::{prepare, Mapping, Pattern, Settings};
 
-/// Held-out relative RMS of every suite model fitted from `views` painted views.
+/// Held-out relative RMS of every suite model fitted from `views` painted views with the
+/// default 1D factors.
 fn suite_errors(views: usize) -> Vec<(String, f64)> {
+    suite_errors_with(views, &Settings::default())
+}
+
+fn suite_errors_with(views: usize, settings: &Settings) -> Vec<(String, f64)> {
     let patterns: Vec<Pattern> = painted_views(views, 100).iter().map(|v| v.pattern()).collect();
     let pattern = Pattern::concat(&patterns);
-    let settings = Settings::default();
     let prepared = prepare(&pattern, &settings).unwrap();
     Analytic::suite()
         .into_iter()
         .map(|model| {
             let values = pattern.shade(|l, v| model.shading(l, v));
             let fit = prepared.solve(&values, Mapping::Auto).unwrap();
-            let e = relative_rms(&held_out_views(40), |q| model.shading(q.l, q.v), |q| fit.eval(&settings, q));
+            let e = relative_rms(&held_out_views(40), |q| model.shading(q.l, q.v), |q| fit.eval(settings, q));
             (model.name(), e)
         })
         .collect()
@@ -54,18 +58,6 @@ fn three_painted_views_generalize_better_than_one() {
 fn two_dimensional_factors_generalize_from_three_views() {
     // 2D tables have far more freedom than one view constrains (BENCHMARKS.md: the median
     // is near 0.9 from one view), so they are judged with three.
-    let patterns: Vec<Pattern> = painted_views(3, 100).iter().map(|v| v.pattern()).collect();
-    let pattern = Pattern::concat(&patterns);
-    let settings = Settings::uniform(2, brdfpaint::factor::defaults::RES_2D);
-    let prepared = prepare(&pattern, &settings).unwrap();
-    let errors: Vec<(String, f64)> = Analytic::suite()
-        .into_iter()
-        .map(|model| {
-            let values = pattern.shade(|l, v| model.shading(l, v));
-            let fit = prepared.solve(&values, Mapping::Auto).unwrap();
-            let e = relative_rms(&held_out_views(40), |q| model.shading(q.l, q.v), |q| fit.eval(&settings, q));
-            (model.name(), e)
-        })
-        .collect();
+    let errors = suite_errors_with(3, &Settings::uniform(2, brdfpaint::factor::defaults::RES_2D));
     assert!(median(&errors) < 0.08, "{errors:?}");
 }
