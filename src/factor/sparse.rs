@@ -42,13 +42,15 @@ impl SparseLlt {
         Ok(SparseLlt { symbolic: sym, values })
     }
 
-    /// Solve in place for the columns of `rhs`, on the calling thread.
+    /// Solve in place for the columns of `rhs`: on the calling thread for a few columns
+    /// (a refit), with threads for many (while preparing).
     pub fn solve_in_place(&self, rhs: &mut Mat<f64>) {
-        let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(rhs.ncols(), Par::Seq));
+        let par = if rhs.ncols() > 8 { Par::rayon(0) } else { Par::Seq };
+        let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(rhs.ncols(), par));
         LltRef::<usize, f64>::new(&self.symbolic, &self.values).solve_in_place_with_conj(
             Conj::No,
             rhs.as_mut(),
-            Par::Seq,
+            par,
             MemStack::new(&mut mem),
         );
     }

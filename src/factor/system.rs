@@ -49,8 +49,9 @@ pub fn stencil(spec: &FactorSpec, q: &Query) -> Stencil {
     }
 }
 
-/// The sample matrix $\mathbf A$ (N × n), stored both by rows (to predict) and by columns
-/// (to form $\mathbf A^\top \tilde{\mathbf f}$ by gathering, which parallelizes).
+/// The sample matrix $\mathbf A$ (N × n), stored both by rows (to predict, and to scatter
+/// $\mathbf A^\top \tilde{\mathbf f}$) and by columns (to assemble $\mathbf G$ and to pick
+/// each factor's gauge node).
 #[derive(Clone, Debug, Default)]
 pub struct Design {
     /// Unknowns (columns).
