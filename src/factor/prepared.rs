@@ -3,11 +3,12 @@
 //! [`prepare`] builds the normal equations $\mathbf G = \mathbf B^\top\mathbf B$ of eq. 3.4 for
 //! a sample pattern and factors them. It never sees sample values. [`Prepared::solve`] then
 //! maps values to log space, forms $\mathbf b = \mathbf A^\top \tilde{\mathbf f}$ (a sparse
-//! gather) and applies the prepared inverse to three right-hand sides at once (R, G, B).
+//! scatter) and applies the prepared inverse to three right-hand sides at once (R, G, B).
 //!
 //! The default pre-factors $\mathbf G$ by Cholesky: dense when it is small or dense (the
-//! inverse is kept, so a solve is one matrix product), sparse supernodal otherwise (a 256²
-//! uv factor). The thesis's pseudo-inverse variants are available as [`Method`]s; they use
+//! inverse is kept, so a solve is one matrix product); a block solver when one large table
+//! sits beside small ones (the four-factor product, see `schur`); sparse supernodal
+//! otherwise (three 2D factors, a 256² uv factor). The thesis's pseudo-inverse variants are available as [`Method`]s; they use
 //! the eigendecomposition $\mathbf G = \mathbf V \mathbf S^2 \mathbf V^\top$, whose
 //! $\mathbf V$ are the right singular vectors of $\mathbf B$, and expose the change of basis
 //! of eqs. 3.10–3.12 through [`Spectral`].
