@@ -9,6 +9,7 @@
 //! values in `f32`, exactly as the shader samples them, so the CPU evaluation here is the
 //! reference the GL renderer is tested against.
 
+pub mod map;
 mod store;
 
 use serde::{Deserialize, Serialize};
