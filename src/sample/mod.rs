@@ -30,7 +30,7 @@
 //! use std::path::Path;
 //!
 //! let mut sampler = SceneSampler::new()?;
-//! let view = sampler.load_view(Path::new("scene.gltf"), Path::new("painting.png"), Erosion::default())?;
+//! let (_scene, view) = sampler.load_view(Path::new("scene.gltf"), Path::new("painting.png"), Erosion::default())?;
 //! let samples = Samples::gather(&[view])?;
 //! let fitted = fit(&samples, &Settings::default(), Mapping::Auto, Cache::user().as_ref())?;
 //! println!("relative RMS on the samples: {}", fitted.fit.errors.rms_relative);
