@@ -353,6 +353,20 @@ mod painting_tests {
     }
 
     #[test]
+    fn jpeg_decodes_with_the_srgb_curve_and_is_opaque() {
+        let img = image::RgbImage::from_pixel(16, 16, image::Rgb([128, 64, 200]));
+        let mut bytes = Cursor::new(Vec::new());
+        img.write_to(&mut bytes, ImageFormat::Jpeg).unwrap();
+        let p = Painting::decode(Path::new("p.jpg"), bytes.get_ref()).unwrap();
+        // A flat colour survives JPEG within a code or two.
+        let want = [128.0f32, 64.0, 200.0].map(|c| srgb_to_linear(c / 255.0));
+        for c in 0..3 {
+            assert!((p.pixels[100][c] - want[c]).abs() < 0.01, "{:?} vs {want:?}", p.pixels[100]);
+        }
+        assert!(p.alpha.iter().all(|&a| a == 1.0));
+    }
+
+    #[test]
     fn exr_is_linear_and_bad_values_are_errors_naming_the_pixel() {
         let mut p = painting(4, 3);
         p.pixels[5] = [2.5, 0.0, 1e-3];
