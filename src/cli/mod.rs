@@ -17,8 +17,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Fit a material to measured data.
-    Fit(fit::FitArgs),
+    /// Fit a material to paintings of scenes, or to measured data.
+    Fit(Box<fit::FitArgs>),
     /// Reproduce the thesis's timing tables (5.1, 5.2) on this machine.
     Bench {
         /// Print one JSON array of cases instead of a table.
@@ -44,7 +44,7 @@ pub fn run() -> ExitCode {
         }
     };
     let result = match cli.command {
-        Command::Fit(args) => fit::run(args),
+        Command::Fit(args) => fit::run(*args),
         Command::Bench { json, quick } => bench::run(json, quick),
     };
     match result {
