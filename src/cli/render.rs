@@ -33,8 +33,8 @@ pub(super) struct SceneArgs {
     /// side, back, rim.
     #[arg(long, value_name = "NAME", requires = "model")]
     preset: Option<String>,
-    /// Image size in pixels, WxH, 1 to 16384 per side. Default 512x512; with --scene and a
-    /// camera aspectRatio, 512 high at that aspect.
+    /// Image size in pixels, WxH: 1 to 16384 per side, at most 4096x4096 pixels in all.
+    /// Default 512x512; with --scene and a camera aspectRatio, 512 high at that aspect.
     #[arg(long, value_name = "WxH")]
     size: Option<String>,
 }
