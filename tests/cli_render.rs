@@ -24,7 +24,11 @@ fn brdfpaint(args: &[&str]) -> (i32, String, String) {
         .env("LIBGL_ALWAYS_SOFTWARE", "1")
         .output()
         .expect("run brdfpaint");
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
 }
 
 fn ok(args: &[&str]) -> String {
@@ -62,7 +66,8 @@ fn fitted_material(dir: &Path) -> (PathBuf, Material) {
     let model = Analytic::BlinnPhong { diffuse: [0.45, 0.25, 0.12], specular: [0.3, 0.35, 0.4], exponent: 16.0 };
     let pattern = SphereView::new(DVec3::new(-0.5, 0.5, 1.0), 64).pattern();
     let settings = Settings::uniform(1, 64);
-    let fit = prepare(&pattern, &settings).unwrap().solve(&pattern.shade(|l, v| model.shading(l, v)), Mapping::Auto).unwrap();
+    let fit =
+        prepare(&pattern, &settings).unwrap().solve(&pattern.shade(|l, v| model.shading(l, v)), Mapping::Auto).unwrap();
     let material = Material::from_fit(&settings, &fit, Provenance::default()).unwrap();
     let path = dir.join("mat");
     material.save(&path).unwrap();
@@ -142,7 +147,8 @@ fn sheet_round_trips_its_scene_and_its_images_agree_with_the_geometry() {
     let (w, h) = (160, 120);
     let stdout = ok(&["sheet", "--model", "sphere", "--preset", "front-left", "--size", "160x120", "--out", s(&out)]);
     assert!(stdout.contains("outline.png") && stdout.contains("fit --scene"), "{stdout}");
-    let mut names: Vec<String> = std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    let mut names: Vec<String> =
+        std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
     names.sort();
     assert_eq!(names, ["mask.png", "outline.png", "reference.png", "scene.gltf"]);
     assert_eq!(listing(dir.path()).len(), 5, "no temporary files left: {:?}", listing(dir.path()));
@@ -158,18 +164,27 @@ fn sheet_round_trips_its_scene_and_its_images_agree_with_the_geometry() {
         }
     };
     close(&got.camera.world_from_camera.to_cols_array(), &want.camera.world_from_camera.to_cols_array(), "camera");
-    let (Projection::Perspective { yfov: gy, aspect: ga, znear: gn, zfar: gf }, Projection::Perspective { yfov, aspect, znear, zfar }) =
-        (got.camera.projection, want.camera.projection)
+    let (
+        Projection::Perspective { yfov: gy, aspect: ga, znear: gn, zfar: gf },
+        Projection::Perspective { yfov, aspect, znear, zfar },
+    ) = (got.camera.projection, want.camera.projection)
     else {
         panic!("perspective cameras expected")
     };
     close(&[gy, ga.unwrap(), gn, gf.unwrap()], &[yfov, aspect.unwrap(), znear, zfar.unwrap()], "projection");
     assert!((ga.unwrap() - w as f32 / h as f32).abs() < 1e-6);
-    let (Light::Directional { direction: gd, color: gc, intensity: gi }, Light::Directional { direction, color, intensity }) = (got.light, want.light)
+    let (
+        Light::Directional { direction: gd, color: gc, intensity: gi },
+        Light::Directional { direction, color, intensity },
+    ) = (got.light, want.light)
     else {
         panic!("directional lights expected")
     };
-    close(&[gd.x, gd.y, gd.z, gc.x, gc.y, gc.z, gi], &[direction.x, direction.y, direction.z, color.x, color.y, color.z, intensity], "light");
+    close(
+        &[gd.x, gd.y, gd.z, gc.x, gc.y, gc.z, gi],
+        &[direction.x, direction.y, direction.z, color.x, color.y, color.z, intensity],
+        "light",
+    );
     assert_eq!(got.meshes.len(), want.meshes.len());
     for (a, b) in got.meshes.iter().zip(&want.meshes) {
         assert_eq!(a.indices, b.indices);
@@ -245,7 +260,12 @@ fn sheet_round_trips_its_scene_and_its_images_agree_with_the_geometry() {
             let decoded = srgb_to_linear(code[c] as f32 / 255.0) as f64;
             // Within one 8-bit step of the closed form, measured in encoded units.
             let step = (code[c] as f64 / 255.0 - linear_to_srgb(want_rgb[c] as f32) as f64).abs();
-            assert!(step <= 1.0 / 255.0 + 1e-6, "({i}, {j}) channel {c}: code {} decodes to {decoded}, closed form {}", code[c], want_rgb[c]);
+            assert!(
+                step <= 1.0 / 255.0 + 1e-6,
+                "({i}, {j}) channel {c}: code {} decodes to {decoded}, closed form {}",
+                code[c],
+                want_rgb[c]
+            );
             worst = worst.max((decoded - want_rgb[c]).abs());
         }
         checked += 1;
@@ -304,7 +324,12 @@ fn sheet_reference_is_exposed_for_a_physical_point_light() {
             let want = lambert_phong(p, to_light.normalize(), v, e);
             for c in 0..3 {
                 let step = (px[j * w + i][c] as f64 / 255.0 - linear_to_srgb(want[c] as f32) as f64).abs();
-                assert!(step <= 1.0 / 255.0 + 1e-6, "({i}, {j}) channel {c}: code {} vs closed form {}", px[j * w + i][c], want[c]);
+                assert!(
+                    step <= 1.0 / 255.0 + 1e-6,
+                    "({i}, {j}) channel {c}: code {} vs closed form {}",
+                    px[j * w + i][c],
+                    want[c]
+                );
             }
             checked += 1;
         }
@@ -325,7 +350,13 @@ fn sheet_outline_lies_on_the_projected_edges_of_a_cube() {
     let gltf = dir.path().join("cube.gltf");
     let eye = DVec3::new(2.2, 1.8, 3.0);
     let (w, h) = (150, 120);
-    let scene = write_scene(&gltf, cube(Vec3::ZERO, 0.5), eye, Some(1.25), gl_common::sun(DVec3::new(-0.3, 1.0, 0.5), [1.0; 3]));
+    let scene = write_scene(
+        &gltf,
+        cube(Vec3::ZERO, 0.5),
+        eye,
+        Some(1.25),
+        gl_common::sun(DVec3::new(-0.3, 1.0, 0.5), [1.0; 3]),
+    );
     let out = dir.path().join("sheet");
     ok(&["sheet", "--scene", s(&gltf), "--size", "150x120", "--out", s(&out)]);
     // The cube's edges whose faces are not both turned away from the camera: silhouette
@@ -336,7 +367,13 @@ fn sheet_outline_lies_on_the_projected_edges_of_a_cube() {
             if a & (1 << axis) != 0 {
                 continue;
             }
-            let corner = |k: u32| DVec3::new([-0.5, 0.5][(k & 1) as usize], [-0.5, 0.5][(k >> 1 & 1) as usize], [-0.5, 0.5][(k >> 2 & 1) as usize]);
+            let corner = |k: u32| {
+                DVec3::new(
+                    [-0.5, 0.5][(k & 1) as usize],
+                    [-0.5, 0.5][(k >> 1 & 1) as usize],
+                    [-0.5, 0.5][(k >> 2 & 1) as usize],
+                )
+            };
             let (p, q) = (corner(a), corner(a | 1 << axis));
             let mid = 0.5 * (p + q);
             // The two faces at this edge have normals along the other two axes.
@@ -353,7 +390,9 @@ fn sheet_outline_lies_on_the_projected_edges_of_a_cube() {
     assert_eq!(edges.len(), 9, "a cube seen from a corner shows 9 edges");
     let (_, _, px) = png(&out.join("outline.png"));
     let black: Vec<bool> = px.iter().map(|p| p[0] == 0).collect();
-    let dist = |i: usize, j: usize| edges.iter().map(|&(a, b)| segment_distance((i as f64 + 0.5, j as f64 + 0.5), a, b)).fold(f64::MAX, f64::min);
+    let dist = |i: usize, j: usize| {
+        edges.iter().map(|&(a, b)| segment_distance((i as f64 + 0.5, j as f64 + 0.5), a, b)).fold(f64::MAX, f64::min)
+    };
     let mut n = 0;
     for j in 0..h {
         for i in 0..w {
@@ -406,7 +445,8 @@ fn render_exr_and_png_equal_material_eval_times_the_light() {
     let rgb = [1.0, 0.8, 0.6].map(|c| c * 9.0);
     let light = Light::Point { position: light_at.as_vec3(), color: Vec3::new(1.0, 0.8, 0.6), intensity: 9.0 };
     let (w, h) = (96, 72);
-    let scene = write_scene(&gltf, uv_sphere(Vec3::ZERO, 1.0, 256, 128), DVec3::new(0.5, 0.8, 3.5), Some(96.0 / 72.0), light);
+    let scene =
+        write_scene(&gltf, uv_sphere(Vec3::ZERO, 1.0, 256, 128), DVec3::new(0.5, 0.8, 3.5), Some(96.0 / 72.0), light);
     let exr = dir.path().join("r.exr");
     let png_path = dir.path().join("r.png");
     // Default size: 512 high at the camera's aspect.
@@ -447,7 +487,12 @@ fn render_exr_and_png_equal_material_eval_times_the_light() {
                 worst = worst.max(e);
                 let code = codes[j * w + i][c] as f64 / 255.0;
                 let step = (code - linear_to_srgb(want[c] as f32) as f64).abs();
-                assert!(step <= 1.0 / 255.0 + 1e-6, "({i}, {j}) channel {c}: PNG code {} vs {}", codes[j * w + i][c], want[c]);
+                assert!(
+                    step <= 1.0 / 255.0 + 1e-6,
+                    "({i}, {j}) channel {c}: PNG code {} vs {}",
+                    codes[j * w + i][c],
+                    want[c]
+                );
             }
             n += 1;
         }
@@ -475,12 +520,31 @@ fn turntable_and_light_sweep_write_n_frames_that_agree() {
     run(&["--turntable", "4"], "t.exr");
     run(&["--light-sweep", "4"], "l.exr");
     let read = |name: &str| Rgb::read_exr(&out.join(name)).unwrap().pixels;
-    let mut names: Vec<String> = std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    let mut names: Vec<String> =
+        std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
     names.sort();
-    assert_eq!(names, ["l-000.exr", "l-001.exr", "l-002.exr", "l-003.exr", "single.exr", "t-000.exr", "t-001.exr", "t-002.exr", "t-003.exr"]);
-    let diff = |a: &[[f32; 3]], b: &[[f32; 3]]| a.iter().zip(b).flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs())).fold(0.0f32, f32::max);
+    assert_eq!(
+        names,
+        [
+            "l-000.exr",
+            "l-001.exr",
+            "l-002.exr",
+            "l-003.exr",
+            "single.exr",
+            "t-000.exr",
+            "t-001.exr",
+            "t-002.exr",
+            "t-003.exr"
+        ]
+    );
+    let diff = |a: &[[f32; 3]], b: &[[f32; 3]]| {
+        a.iter().zip(b).flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs())).fold(0.0f32, f32::max)
+    };
     let single = read("single.exr");
-    assert!(diff(&read("t-000.exr"), &single) < 1e-5 && diff(&read("l-000.exr"), &single) < 1e-5, "frame 0 is the scene as given");
+    assert!(
+        diff(&read("t-000.exr"), &single) < 1e-5 && diff(&read("l-000.exr"), &single) < 1e-5,
+        "frame 0 is the scene as given"
+    );
     for k in 1..4 {
         let (t, l) = (read(&format!("t-{k:03}.exr")), read(&format!("l-{k:03}.exr")));
         assert!(diff(&t, &single) > 0.05, "turntable frame {k} differs from frame 0");
@@ -517,13 +581,40 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
     let r_png = out_dir.join("r.png");
     let sheet_dir = out_dir.join("sheet");
     let good = root.join("good.gltf");
-    write_scene(&good, uv_sphere(Vec3::ZERO, 1.0, 32, 16), DVec3::new(0.0, 0.0, 4.0), Some(1.0), gl_common::sun(DVec3::Z, [1.0; 3]));
+    write_scene(
+        &good,
+        uv_sphere(Vec3::ZERO, 1.0, 32, 16),
+        DVec3::new(0.0, 0.0, 4.0),
+        Some(1.0),
+        gl_common::sun(DVec3::Z, [1.0; 3]),
+    );
     // The good inputs work.
     ok(&["render", s(&mat), "--scene", s(&good), "--size", "32x32", "--out", s(&out_dir.join("ok.png"))]);
     std::fs::remove_file(out_dir.join("ok.png")).unwrap();
 
-    let render = |scene: &Path| vec!["render".to_string(), s(&mat).into(), "--scene".into(), s(scene).into(), "--size".into(), "32x32".into(), "--out".into(), s(&r_png).into()];
-    let sheet = |scene: &Path| vec!["sheet".to_string(), "--scene".into(), s(scene).into(), "--size".into(), "32x32".into(), "--out".into(), s(&sheet_dir).into()];
+    let render = |scene: &Path| {
+        vec![
+            "render".to_string(),
+            s(&mat).into(),
+            "--scene".into(),
+            s(scene).into(),
+            "--size".into(),
+            "32x32".into(),
+            "--out".into(),
+            s(&r_png).into(),
+        ]
+    };
+    let sheet = |scene: &Path| {
+        vec![
+            "sheet".to_string(),
+            "--scene".into(),
+            s(scene).into(),
+            "--size".into(),
+            "32x32".into(),
+            "--out".into(),
+            s(&sheet_dir).into(),
+        ]
+    };
     let check_both = |scene: &Path, needle: &str| {
         for args in [render(scene), sheet(scene)] {
             let args: Vec<&str> = args.iter().map(String::as_str).collect();
@@ -618,11 +709,19 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
     let mut m = Material::load(&mat).unwrap();
     m.terms[0].coefficients = Some(brdfpaint::material::Coefficients { res: 2, texels: vec![1.0; 4] });
     m.save(&uv_mat).unwrap();
-    fails(&["render", s(&uv_mat), "--model", "bunny", "--size", "32x32", "--out", s(&r_png)], "texture coordinates", &out_dir);
+    fails(
+        &["render", s(&uv_mat), "--model", "bunny", "--size", "32x32", "--out", s(&r_png)],
+        "texture coordinates",
+        &out_dir,
+    );
     fails(&["render", s(&mat), "--model", "sphere", "--out", s(&out_dir.join("r.jpg"))], ".png or .exr", &out_dir);
     fails(&["render", s(&mat), "--model", "sphere", "--turntable", "0", "--out", s(&r_png)], "frames", &out_dir);
     // A render into a directory that does not exist.
-    fails(&["render", s(&mat), "--model", "sphere", "--size", "8x8", "--out", s(&out_dir.join("nowhere/r.png"))], "r.png", &out_dir);
+    fails(
+        &["render", s(&mat), "--model", "sphere", "--size", "8x8", "--out", s(&out_dir.join("nowhere/r.png"))],
+        "r.png",
+        &out_dir,
+    );
 
     // A sheet onto an existing directory that is not a sheet.
     let mine = out_dir.join("mine");
@@ -630,11 +729,30 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
     std::fs::write(mine.join("notes.txt"), b"keep me").unwrap();
     fails(&["sheet", "--model", "sphere", "--size", "16x16", "--out", s(&mine)], "not a sheet directory", &out_dir);
     assert_eq!(std::fs::read(mine.join("notes.txt")).unwrap(), b"keep me");
-    fails(&["sheet", "--model", "sphere", "--size", "16x16", "--out", s(&mine.join("notes.txt"))], "not a directory", &out_dir);
+    fails(
+        &["sheet", "--model", "sphere", "--size", "16x16", "--out", s(&mine.join("notes.txt"))],
+        "not a directory",
+        &out_dir,
+    );
 
     // Usage errors exit with 2.
     assert_eq!(brdfpaint(&["render", s(&mat), "--out", "x.png"]).0, 2, "no scene");
     assert_eq!(brdfpaint(&["render", s(&mat), "--scene", s(&good), "--model", "sphere", "--out", "x.png"]).0, 2);
-    assert_eq!(brdfpaint(&["render", s(&mat), "--model", "sphere", "--turntable", "2", "--light-sweep", "2", "--out", "x.png"]).0, 2);
+    assert_eq!(
+        brdfpaint(&[
+            "render",
+            s(&mat),
+            "--model",
+            "sphere",
+            "--turntable",
+            "2",
+            "--light-sweep",
+            "2",
+            "--out",
+            "x.png"
+        ])
+        .0,
+        2
+    );
     assert_eq!(brdfpaint(&["sheet", "--model", "sphere"]).0, 2, "no --out");
 }

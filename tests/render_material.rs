@@ -93,7 +93,15 @@ fn scenes() -> Vec<(&'static str, Scene, usize, usize)> {
 }
 
 /// Worst error over covered pixels of the GL image against `material.eval`; pixel count.
-fn compare(r: &mut Renderer, ctx: &HeadlessContext, material: &Material, shading: &Shading, scene: &Scene, w: usize, h: usize) -> (f64, usize) {
+fn compare(
+    r: &mut Renderer,
+    ctx: &HeadlessContext,
+    material: &Material,
+    shading: &Shading,
+    scene: &Scene,
+    w: usize,
+    h: usize,
+) -> (f64, usize) {
     let gpu = GpuScene::upload(ctx.gl(), scene).unwrap();
     let image = r.factored(&gpu, &r.upload(shading).unwrap(), w, h).unwrap();
     let g = r.gbuffer(&gpu, w, h).unwrap();

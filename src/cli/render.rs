@@ -216,7 +216,8 @@ pub(super) fn run(args: RenderArgs) -> Result<()> {
         Some(Orbit::Light) => format!(", light sweep of {frames} frames"),
     };
     let first = paths[0].display();
-    let outputs = if paths.len() == 1 { first.to_string() } else { format!("{first} ... {}", paths[paths.len() - 1].display()) };
+    let outputs =
+        if paths.len() == 1 { first.to_string() } else { format!("{first} ... {}", paths[paths.len() - 1].display()) };
     println!("rendered {} on {name} at {width}x{height}{what}: {outputs}", args.material.display());
     Ok(())
 }

@@ -24,11 +24,8 @@ impl Shading {
     pub fn from_material(material: &Material) -> Result<Shading> {
         let mut terms = Vec::with_capacity(material.terms.len());
         for (k, term) in material.terms.iter().enumerate() {
-            let factors = term
-                .factors
-                .iter()
-                .map(|f| FactorTexture { spec: f.spec.clone(), texels: f.texels.clone() })
-                .collect();
+            let factors =
+                term.factors.iter().map(|f| FactorTexture { spec: f.spec.clone(), texels: f.texels.clone() }).collect();
             let coefficients = match &term.coefficients {
                 Some(c) if c.texels.len() != c.res * c.res => {
                     return Err(Error::input(format!(
@@ -55,7 +52,8 @@ mod tests {
     use crate::material::{Coefficients, Factor, Kind, Term as MaterialTerm};
 
     fn factor(input: Input, res: usize) -> Factor {
-        let spec = FactorSpec { input, param: Param::Radius, domain: Domain::Sphere, res, smooth: 0.0, damp: 0.0, ridge: 0.0 };
+        let spec =
+            FactorSpec { input, param: Param::Radius, domain: Domain::Sphere, res, smooth: 0.0, damp: 0.0, ridge: 0.0 };
         Factor { texels: (0..res).map(|i| [i as f32, 1.0, 2.0]).collect(), spec }
     }
 
@@ -64,7 +62,11 @@ mod tests {
         let material = Material {
             kind: Kind::MaterialMap,
             terms: vec![
-                MaterialTerm { factors: vec![factor(Input::Light, 4)], map: LogMap::Offset { a: [0.1, 0.2, 0.3] }, coefficients: None },
+                MaterialTerm {
+                    factors: vec![factor(Input::Light, 4)],
+                    map: LogMap::Offset { a: [0.1, 0.2, 0.3] },
+                    coefficients: None,
+                },
                 MaterialTerm {
                     factors: vec![factor(Input::Half, 3), factor(Input::View, 5)],
                     map: LogMap::Identity { floor: [1e-3; 3] },

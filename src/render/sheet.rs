@@ -144,7 +144,10 @@ impl Target {
     fn commit(self, tmp: &Path, dir: &Path) -> Result<()> {
         // The directory may have changed since it was checked.
         if Target::of(dir)? != self {
-            return Err(Error::input(format!("{} changed while the sheet was drawn; not overwriting it", dir.display())));
+            return Err(Error::input(format!(
+                "{} changed while the sheet was drawn; not overwriting it",
+                dir.display()
+            )));
         }
         match self {
             Target::Fresh => {
@@ -173,7 +176,11 @@ mod tests {
     #[test]
     fn exposure_normalizes_the_brightest_lit_pixel() {
         let px = |falloff: f32| GPixel { hit: true, falloff, ..Default::default() };
-        let g = GBuffer { width: 3, height: 1, pixels: vec![px(0.01), px(0.04), GPixel { falloff: 9.0, ..Default::default() }] };
+        let g = GBuffer {
+            width: 3,
+            height: 1,
+            pixels: vec![px(0.01), px(0.04), GPixel { falloff: 9.0, ..Default::default() }],
+        };
         let point = Light::Point { position: Vec3::ZERO, color: Vec3::new(1.0, 0.5, 0.25), intensity: 100.0 };
         assert!((reference_exposure(&g, &point) - 1.0 / (0.04 * 100.0)).abs() < 1e-7);
         let sun = Light::Directional { direction: -Vec3::Y, color: Vec3::ONE, intensity: 1.0 };
