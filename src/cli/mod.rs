@@ -3,6 +3,8 @@
 
 mod bench;
 mod fit;
+mod render;
+mod sheet;
 
 use std::process::ExitCode;
 
@@ -19,7 +21,11 @@ struct Cli {
 enum Command {
     /// Fit a material to paintings of scenes, or to measured data.
     Fit(Box<fit::FitArgs>),
-    /// Reproduce the thesis's timing tables (5.1, 5.2) on this machine.
+    /// Render a material on a scene, headless, to PNG or EXR (or a turntable / light sweep).
+    Render(render::RenderArgs),
+    /// Write the coloring-book sheet to paint on: outline.png, reference.png, mask.png, scene.gltf.
+    Sheet(sheet::SheetArgs),
+    /// Reproduce the thesis's timing tables (5.1, 5.2) and time the GL shaders on this machine.
     Bench {
         /// Print one JSON array of cases instead of a table.
         #[arg(long)]
@@ -45,6 +51,8 @@ pub fn run() -> ExitCode {
     };
     let result = match cli.command {
         Command::Fit(args) => fit::run(*args),
+        Command::Render(args) => render::run(args),
+        Command::Sheet(args) => sheet::run(args),
         Command::Bench { json, quick } => bench::run(json, quick),
     };
     match result {
