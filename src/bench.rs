@@ -177,3 +177,68 @@ pub fn table(cases: &[Case]) -> String {
     }
     out
 }
+
+/// Frame sizes of the GL cases.
+const GL_SIZES: [usize; 2] = [512, 1024];
+
+/// The GL cases: frame time of the factored shader against the analytic GGX shader, the
+/// same mesh (the bunny, front-left preset) and image size, measured side by side in one
+/// run by [`crate::render::Renderer::bench`] (frames interleaved, medians, `glFinish` per
+/// frame). The factored materials are real fits of the GGX model the analytic shader
+/// draws, painted on a sphere view: three 1D factors (M = 128) and three 2D factors
+/// (M = 32), the defaults. `time_s` is the factored frame, `ratio` factored / analytic;
+/// `res` is the factor resolution, `samples` the fitted samples. Also returns the GL
+/// renderer's name. `quick` takes a few frames per case instead of dozens.
+pub fn gl_cases(quick: bool) -> Result<(Vec<Case>, String)> {
+    use crate::factor::Mapping;
+    use crate::gl::HeadlessContext;
+    use crate::render::{Ggx, GpuScene, Renderer, Shading, Term};
+    use crate::scene::Scene;
+
+    let ggx = Ggx::default();
+    let model = Analytic::Ggx {
+        diffuse: ggx.diffuse.as_dvec3().to_array(),
+        f0: ggx.f0.as_dvec3().to_array(),
+        roughness: ggx.roughness as f64,
+    };
+    let pattern = sphere_pattern(7884);
+    let values = pattern.shade(|l, v| model.shading(l, v));
+    let ctx = HeadlessContext::new()?;
+    let mut renderer = Renderer::new(ctx.gl())?;
+    let scene = GpuScene::upload(ctx.gl(), &Scene::from_preset("bunny", "front-left")?)?;
+    let mut out = Vec::new();
+    for (name, dim, res) in [("3x1D", 1, crate::factor::defaults::RES_1D), ("3x2D", 2, crate::factor::defaults::RES_2D)] {
+        let settings = Settings::uniform(dim, res);
+        let fit = prepare(&pattern, &settings)?.solve(&values, Mapping::Auto)?;
+        let shading = renderer.upload(&Shading::uniform(Term::from_fit(&settings, &fit)))?;
+        for size in GL_SIZES {
+            let frames = match (quick, size) {
+                (true, 512) => 6,
+                (true, _) => 3,
+                (false, 512) => 60,
+                (false, _) => 30,
+            };
+            let t = renderer.bench(&scene, &shading, &ggx, size, size, frames)?;
+            out.push(Case {
+                case: format!("gl factored {name} M={res} vs GGX, bunny {size}x{size}"),
+                samples: Some(pattern.len()),
+                res: Some(res),
+                terms: Some(1),
+                time_s: Some(t.factored_ms * 1e-3),
+                ratio: Some(t.ratio),
+                ..Default::default()
+            });
+        }
+    }
+    Ok((out, ctx.renderer().to_string()))
+}
+
+/// A human-readable table of GL cases: factored and analytic frame times and their ratio.
+pub fn gl_table(cases: &[Case]) -> String {
+    let mut out = format!("{:<46} {:>12} {:>12} {:>7}\n", "case", "factored ms", "analytic ms", "ratio");
+    for c in cases {
+        let (t, r) = (c.time_s.unwrap_or(f64::NAN), c.ratio.unwrap_or(f64::NAN));
+        out += &format!("{:<46} {:>12.2} {:>12.2} {:>7.2}\n", c.case, t * 1e3, t / r * 1e3, r);
+    }
+    out
+}

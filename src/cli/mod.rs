@@ -3,6 +3,8 @@
 
 mod bench;
 mod fit;
+mod render;
+mod sheet;
 
 use std::process::ExitCode;
 
@@ -17,9 +19,13 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Fit a material to measured data.
-    Fit(fit::FitArgs),
-    /// Reproduce the thesis's timing tables (5.1, 5.2) on this machine.
+    /// Fit a material to paintings of scenes, or to measured data.
+    Fit(Box<fit::FitArgs>),
+    /// Render a material on a scene, headless, to PNG or EXR (or a turntable / light sweep).
+    Render(render::RenderArgs),
+    /// Write the coloring-book sheet to paint on: outline.png, reference.png, mask.png, scene.gltf.
+    Sheet(sheet::SheetArgs),
+    /// Reproduce the thesis's timing tables (5.1, 5.2) and time the GL shaders on this machine.
     Bench {
         /// Print one JSON array of cases instead of a table.
         #[arg(long)]
@@ -44,7 +50,9 @@ pub fn run() -> ExitCode {
         }
     };
     let result = match cli.command {
-        Command::Fit(args) => fit::run(args),
+        Command::Fit(args) => fit::run(*args),
+        Command::Render(args) => render::run(args),
+        Command::Sheet(args) => sheet::run(args),
         Command::Bench { json, quick } => bench::run(json, quick),
     };
     match result {
