@@ -707,7 +707,7 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
     // A material that needs uvs on a model without them (the bunny).
     let uv_mat = root.join("uv-mat");
     let mut m = Material::load(&mat).unwrap();
-    m.terms[0].coefficients = Some(brdfpaint::material::Coefficients { res: 2, texels: vec![1.0; 4] });
+    m.terms[0].coefficients = Some(brdfpaint::material::Coefficients::grey(2, &[1.0; 4]));
     m.save(&uv_mat).unwrap();
     fails(
         &["render", s(&uv_mat), "--model", "bunny", "--size", "32x32", "--out", s(&r_png)],

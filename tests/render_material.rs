@@ -50,7 +50,7 @@ fn two_terms() -> Material {
                     random_table(Input::Half, Param::Parabolic, Domain::Hemisphere, 12, &mut rng),
                 ],
                 map: LogMap::Offset { a: [0.05, 0.1, 0.02] },
-                coefficients: Some(Coefficients { res: 8, texels: c0 }),
+                coefficients: Some(Coefficients::grey(8, &c0)),
             },
             Term {
                 factors: vec![
@@ -58,7 +58,7 @@ fn two_terms() -> Material {
                     random_table(Input::Uv, Param::Uv, Domain::Hemisphere, 16, &mut rng),
                 ],
                 map: LogMap::Inverted { a: [2.0, 2.5, 3.0] },
-                coefficients: Some(Coefficients { res: 5, texels: c1 }),
+                coefficients: Some(Coefficients::grey(5, &c1)),
             },
         ],
         provenance: Provenance::default(),

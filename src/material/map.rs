@@ -4,10 +4,12 @@
 //!
 //! Each iteration fits a product $\hat f_j$ to the current residual (eq. 4.2) through the
 //! prepared system, so every term after the first costs one solve, not one prepare. The
-//! per-sample multiplier $c_i = \min(1, \Delta_i / \hat f_j)$ (eq. 4.3, the smallest over
-//! the three channels) scales the term below every sample; the coefficient texel takes the
-//! smallest $c_i$ of the samples that fall on it, and the residual drops by $c(u, v) \hat f_j$
-//! (eq. 4.4). Several views merge the same way: all their samples meet in one texture, so
+//! per-sample multiplier $c_i = \min(1, \Delta_i / \hat f_j)$ (eq. 4.3) scales the term below
+//! every sample; the coefficient texel takes the smallest $c_i$ of the samples that fall on
+//! it, and the residual drops by $c(u, v) \hat f_j$ (eq. 4.4). Coefficients are per colour
+//! channel: with the thesis's one scalar, a term fitted to a mixture of colours is scaled to
+//! its worst channel, and on a two-material test object five terms reached relative RMS 0.26
+//! against 0.20 with three. Several views merge the same way: all their samples meet in one texture, so
 //! each texel keeps the minimum over views (thesis 4.4).
 //!
 //! **Gaps.** Texels no sample falls on are filled by rasterizing the painted pixel grid,
@@ -113,18 +115,17 @@ pub fn fit(
         }
         let fit = prepared.solve(&residual, opts.mapping)?;
         let term_values = prepared.predict(&fit.tables, &fit.map);
-        // Eq. 4.3 per sample, the smallest over channels.
-        let multiplier: Vec<f64> = residual
+        // Eq. 4.3 per sample and channel: the term scaled below the residual everywhere.
+        let multiplier: Vec<[f64; 3]> = residual
             .iter()
             .zip(&term_values)
-            .map(|(r, f)| (0..3).map(|c| if r[c] < f[c] && f[c] > 0.0 { r[c] / f[c] } else { 1.0 }).fold(1.0, f64::min))
+            .map(|(r, f)| [0, 1, 2].map(|c| if r[c] < f[c] && f[c] > 0.0 { r[c] / f[c] } else { 1.0 }))
             .collect();
-        let texels = coefficient_texture(res, &node, &multiplier, &triangles, pattern);
-        let coef = Coefficients { res, texels };
+        let coef = Coefficients { res, texels: coefficient_texture(res, &node, &multiplier, &triangles, pattern) };
         for i in 0..n {
             let c = coef.lookup(pattern.queries[i].uv);
             for ch in 0..3 {
-                let add = c * term_values[i][ch];
+                let add = c[ch] * term_values[i][ch];
                 fitted[i][ch] += add;
                 residual[i][ch] = (residual[i][ch] - add).max(0.0);
             }
@@ -204,14 +205,17 @@ fn triangulate(grids: &[Grid], pattern: &Pattern, n: usize) -> Vec<Triangle> {
     candidates
 }
 
-/// The coefficient texture of one term: the smallest multiplier of the samples on each
-/// node, gaps rasterized from the triangulated grid, the rest from the nearest filled node.
-fn coefficient_texture(res: usize, node: &[usize], multiplier: &[f64], triangles: &[Triangle], pattern: &Pattern) -> Vec<f32> {
-    let mut tex = vec![f64::INFINITY; res * res];
-    for (&k, &c) in node.iter().zip(multiplier) {
-        tex[k] = tex[k].min(c);
+/// The coefficient texture of one term: per channel, the smallest multiplier of the samples
+/// on each node, gaps rasterized from the triangulated grid, the rest from the nearest filled
+/// node.
+fn coefficient_texture(res: usize, node: &[usize], multiplier: &[[f64; 3]], triangles: &[Triangle], pattern: &Pattern) -> Vec<[f32; 3]> {
+    let mut tex = vec![[f64::INFINITY; 3]; res * res];
+    for (&k, m) in node.iter().zip(multiplier) {
+        for c in 0..3 {
+            tex[k][c] = tex[k][c].min(m[c]);
+        }
     }
-    let direct: Vec<bool> = tex.iter().map(|x| x.is_finite()).collect();
+    let direct: Vec<bool> = tex.iter().map(|x| x[0].is_finite()).collect();
     // Rasterize: each node inside a triangle gets the barycentric blend of its corners.
     let scale = (res - 1) as f64;
     for t in triangles {
@@ -219,7 +223,7 @@ fn coefficient_texture(res: usize, node: &[usize], multiplier: &[f64], triangles
             let u = crate::factor::param::uv_forward(pattern.queries[s as usize].uv);
             (u.x * scale, u.y * scale)
         });
-        let c = t.map(|s| multiplier[s as usize]);
+        let m = t.map(|s| multiplier[s as usize]);
         let (x0, x1) = (p.iter().map(|q| q.0).fold(f64::MAX, f64::min), p.iter().map(|q| q.0).fold(f64::MIN, f64::max));
         let (y0, y1) = (p.iter().map(|q| q.1).fold(f64::MAX, f64::min), p.iter().map(|q| q.1).fold(f64::MIN, f64::max));
         let area = (p[1].0 - p[0].0) * (p[2].1 - p[0].1) - (p[2].0 - p[0].0) * (p[1].1 - p[0].1);
@@ -239,28 +243,30 @@ fn coefficient_texture(res: usize, node: &[usize], multiplier: &[f64], triangles
                 if !direct[k] {
                     // Where triangles of several views overlap, the smallest value keeps
                     // the term below all of them.
-                    tex[k] = tex[k].min(w0 * c[0] + w1 * c[1] + w2 * c[2]);
+                    for c in 0..3 {
+                        tex[k][c] = tex[k][c].min(w0 * m[0][c] + w1 * m[1][c] + w2 * m[2][c]);
+                    }
                 }
             }
         }
     }
     fill_nearest(&mut tex, res);
-    tex.into_iter().map(|x| x as f32).collect()
+    tex.into_iter().map(|x| x.map(|v| v as f32)).collect()
 }
 
 /// Give every unset (infinite) node the value of the nearest set one, by a breadth-first
 /// sweep from all set nodes at once.
-fn fill_nearest(tex: &mut [f64], res: usize) {
-    let mut queue: std::collections::VecDeque<usize> = (0..tex.len()).filter(|&k| tex[k].is_finite()).collect();
+fn fill_nearest(tex: &mut [[f64; 3]], res: usize) {
+    let mut queue: std::collections::VecDeque<usize> = (0..tex.len()).filter(|&k| tex[k][0].is_finite()).collect();
     if queue.is_empty() {
-        tex.iter_mut().for_each(|x| *x = 0.0);
+        tex.iter_mut().for_each(|x| *x = [0.0; 3]);
         return;
     }
     while let Some(k) = queue.pop_front() {
         let (x, y) = (k % res, k / res);
         let neighbours = [(x > 0).then(|| k - 1), (x + 1 < res).then(|| k + 1), (y > 0).then(|| k - res), (y + 1 < res).then(|| k + res)];
         for nb in neighbours.into_iter().flatten() {
-            if !tex[nb].is_finite() {
+            if !tex[nb][0].is_finite() {
                 tex[nb] = tex[k];
                 queue.push_back(nb);
             }

@@ -5,7 +5,7 @@
 //! $$ S(l, v, uv) = \sum_k c_k(uv)\, m_k^{-1}\Big(\prod_j p_{kj}(\pi_{kj}(l, v, uv))\Big), $$
 //!
 //! with the same node-based tables: every factor texture is copied as is, and a material's
-//! scalar $M \times M$ coefficient texture becomes a grey [`CoefTexture`] with its nodes at
+//! RGB $M \times M$ coefficient texture becomes a [`CoefTexture`] with its nodes at
 //! $uv = (x/(M-1), y/(M-1))$, exactly where [`crate::material::Coefficients::lookup`] puts
 //! them. So the GL image of a material equals [`Material::eval`] at the G-buffer's queries
 //! (tests/render_material.rs).
@@ -34,7 +34,7 @@ impl Shading {
                         c.res
                     )));
                 }
-                Some(c) => Some(CoefTexture::scalar(c.res, c.res, &c.texels)),
+                Some(c) => Some(CoefTexture { width: c.res, height: c.res, texels: c.texels.clone() }),
                 None => None,
             };
             terms.push(Term { factors, map: term.map, coefficients });
@@ -70,7 +70,7 @@ mod tests {
                 MaterialTerm {
                     factors: vec![factor(Input::Half, 3), factor(Input::View, 5)],
                     map: LogMap::Identity { floor: [1e-3; 3] },
-                    coefficients: Some(Coefficients { res: 2, texels: vec![0.0, 0.25, 0.5, 1.0] }),
+                    coefficients: Some(Coefficients::grey(2, &[0.0, 0.25, 0.5, 1.0])),
                 },
             ],
             provenance: Default::default(),
@@ -86,7 +86,7 @@ mod tests {
         assert_eq!(c.texels[1], [0.25; 3]);
 
         let mut bad = material.clone();
-        bad.terms[1].coefficients = Some(Coefficients { res: 3, texels: vec![1.0; 4] });
+        bad.terms[1].coefficients = Some(Coefficients::grey(3, &[1.0; 4]));
         assert!(Shading::from_material(&bad).unwrap_err().to_string().contains("term 1"));
         bad.terms = vec![material.terms[0].clone(); super::super::MAX_TERMS + 1];
         assert!(Shading::from_material(&bad).is_err());
