@@ -242,3 +242,53 @@ pub fn gl_table(cases: &[Case]) -> String {
     }
     out
 }
+
+/// Thesis Table 5.3: material maps with J ∈ {5, 10, 15, 20} terms at factor resolution 32
+/// and 128, ~7.9k samples. The painting is a sphere with a glossy and a matte BRDF in
+/// stripes of u (so every term has something left to fit); the system is prepared once and
+/// each term costs a solve, a prediction and a 256² coefficient texture. Fitting runs all J
+/// terms (no early stop). `time_s` is the whole fit after the prepare; the thesis's seconds
+/// are beside it.
+pub fn material_map_cases(quick: bool) -> Result<Vec<Case>> {
+    use crate::material::map::{self, Grid, MapOptions};
+    let res = 102;
+    let view = SphereView::new(glam::DVec3::new(-0.5, 0.5, 1.0), res);
+    let pixels = view.pixels();
+    let mut grid = Grid { width: res, height: res, sample: vec![None; res * res] };
+    for (k, p) in pixels.iter().enumerate() {
+        grid.sample[p.pixel[1] * res + p.pixel[0]] = Some(k as u32);
+    }
+    let pattern = view.pattern();
+    let glossy = Analytic::BlinnPhong { diffuse: [0.10, 0.08, 0.05], specular: [0.5, 0.5, 0.5], exponent: 40.0 };
+    let matte = Analytic::Lambert { albedo: [0.55, 0.35, 0.15] };
+    let values: Vec<[f64; 3]> = pattern
+        .queries
+        .iter()
+        .map(|q| if (q.uv.x * 8.0).floor() as i64 % 2 == 0 { &glossy } else { &matte }.shading(q.l, q.v))
+        .collect();
+    let thesis = [(32, [2.44, 5.73, 8.91, 12.09]), (128, [3.96, 8.66, 12.64, 17.79])];
+    let mut out = Vec::new();
+    for (factor_res, seconds) in thesis {
+        let prepared = prepare(&pattern, &Settings::uniform(1, factor_res))?;
+        for (terms, thesis_s) in [5, 10, 15, 20].into_iter().zip(seconds) {
+            let opts = MapOptions { terms, min_gain: 0.0, ..Default::default() };
+            let mut result = Ok(());
+            let time_s = median_time(if quick { 1 } else { 3 }, 0.0, || {
+                if let Err(e) = map::fit(&prepared, &pattern, &values, std::slice::from_ref(&grid), &opts) {
+                    result = Err(e);
+                }
+            });
+            result?;
+            out.push(Case {
+                case: format!("table5.3 material map J={terms} M={factor_res}"),
+                samples: Some(pattern.len()),
+                res: Some(factor_res),
+                terms: Some(terms),
+                time_s: Some(time_s),
+                thesis_s: Some(thesis_s),
+                ..Default::default()
+            });
+        }
+    }
+    Ok(out)
+}

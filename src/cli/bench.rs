@@ -4,6 +4,7 @@ use crate::error::{Error, Result};
 
 pub(super) fn run(json: bool, quick: bool) -> Result<()> {
     let mut cases = crate::bench::factor_cases(quick)?;
+    cases.extend(crate::bench::material_map_cases(quick)?);
     // The GL cases need an EGL device; without one the factorization tables still stand.
     let gl = match crate::bench::gl_cases(quick) {
         Ok(gl) => Some(gl),
