@@ -21,7 +21,7 @@ pub(super) enum FactorDim {
     Two,
 }
 
-/// Material kinds (DESIGN.md). Only `uniform` is fitted so far.
+/// Material kinds (DESIGN.md).
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(super) enum KindArg {
     Uniform,
@@ -47,7 +47,9 @@ pub(super) struct FitArgs {
     /// Output material directory (with report.png for paintings).
     #[arg(long, value_name = "MAT")]
     out: PathBuf,
-    /// Material kind. Only uniform is available yet.
+    /// Material kind: uniform p(l) q(h) r(v); four-factor (times s(u,v)); material-map (several
+    /// uniform terms blended by coefficient textures); hybrid (a material map of four-factor
+    /// terms). The last three need paintings of a mesh with texture coordinates.
     #[arg(long, value_enum, default_value = "uniform")]
     kind: KindArg,
     /// Factor tables: 1D isotropic (radius) or 2D (parabolic).
@@ -56,10 +58,11 @@ pub(super) struct FitArgs {
     /// Table resolution per axis (default: 128 for 1D, 32 for 2D).
     #[arg(long)]
     res: Option<usize>,
-    /// Resolution of the uv factor (four-factor and hybrid kinds).
+    /// Resolution of the uv factor (four-factor, hybrid; default 32), or of the coefficient
+    /// textures (material-map; default 256).
     #[arg(long)]
     uv_res: Option<usize>,
-    /// Number of terms (material-map and hybrid kinds).
+    /// Most terms of a material map or hybrid (default 5; fewer when a term stops helping).
     #[arg(long)]
     terms: Option<usize>,
     /// Laplacian smoothing weight of every factor (default: 1e-5 for 1D, 1e-4 for 2D).
@@ -95,21 +98,21 @@ pub(super) fn settings(dim: FactorDim, res: Option<usize>, lambda: Option<f64>) 
 }
 
 pub(super) fn run(args: FitArgs) -> Result<()> {
-    let kind = match args.kind {
-        KindArg::Uniform => None,
-        KindArg::FourFactor => Some("four-factor"),
-        KindArg::MaterialMap => Some("material-map"),
-        KindArg::Hybrid => Some("hybrid"),
-    };
-    if let Some(k) = kind {
-        return Err(Error::input(format!("--kind {k} is not available yet; only --kind uniform can be fitted")));
+    let mut settings = settings(args.factors, args.res, args.lambda)?;
+    if args.kind != KindArg::Uniform && args.merl.is_some() {
+        return Err(Error::input("--kind other than uniform needs paintings of a mesh with texture coordinates, not --merl"));
     }
-    if args.uv_res.is_some() || args.terms.is_some() {
-        return Err(Error::input(
-            "--uv-res and --terms apply to the four-factor, material-map and hybrid kinds, which are not available yet",
-        ));
+    if args.uv_res.is_some() && args.kind == KindArg::Uniform {
+        return Err(Error::input("--uv-res applies to the four-factor, material-map and hybrid kinds"));
     }
-    let settings = settings(args.factors, args.res, args.lambda)?;
+    if args.terms.is_some() && matches!(args.kind, KindArg::Uniform | KindArg::FourFactor) {
+        return Err(Error::input("--terms applies to the material-map and hybrid kinds"));
+    }
+    if matches!(args.kind, KindArg::FourFactor | KindArg::Hybrid) {
+        let four = Settings::four_factor(1, 2, args.uv_res.unwrap_or(crate::factor::defaults::RES_UV));
+        settings.factors.push(four.factors[3].clone());
+        settings.validate()?;
+    }
     if args.erode > 64 {
         return Err(Error::input(format!("--erode {} is more than the 64 pixels allowed", args.erode)));
     }
@@ -192,6 +195,10 @@ fn run_paintings(args: &FitArgs, settings: &Settings) -> Result<()> {
     let cache = Cache::user();
     let fitted = sample::fit(&samples, settings, args.mapping, cache.as_ref())?;
     let fit = &fitted.fit;
+    let map = match args.kind {
+        KindArg::MaterialMap | KindArg::Hybrid => Some(fit_map(args, &samples, &views, &fitted.prepared)?),
+        KindArg::Uniform | KindArg::FourFactor => None,
+    };
     let mut sources = Vec::new();
     for (s, i) in args.scene.iter().zip(&args.image) {
         sources.push(s.display().to_string());
@@ -205,7 +212,16 @@ fn run_paintings(args: &FitArgs, settings: &Settings) -> Result<()> {
         prepare_s: fitted.prepare_s,
         solve_s: fitted.solve_s,
     };
-    let material = Material::from_fit(settings, fit, provenance)?;
+    let material = match map {
+        Some((mut m, report)) => {
+            m.provenance = Provenance { errors: report.errors.last().copied(), solve_s: report.seconds, ..provenance };
+            for (k, e) in report.errors.iter().enumerate() {
+                println!("material map, {} term(s): RMS {:.5}  relative {:.4}  max {:.4}", k + 1, e.rms, e.rms_relative, e.max);
+            }
+            m
+        }
+        None => Material::from_fit(settings, fit, provenance)?,
+    };
     let per_view = report::view_errors(&samples, &views, &material);
     let image = report::image(&views, &material)?;
     save(&material, &args.out)?;
@@ -252,4 +268,29 @@ fn run_paintings(args: &FitArgs, settings: &Settings) -> Result<()> {
         report_path.display()
     );
     Ok(())
+}
+
+/// A material map (or hybrid) on the prepared system of the paintings: the pixel grids of
+/// the views fill the coefficient textures' gaps.
+fn fit_map(
+    args: &FitArgs,
+    samples: &Samples,
+    views: &[sample::PaintedView],
+    prepared: &crate::factor::Prepared,
+) -> Result<(Material, crate::material::map::MapReport)> {
+    use crate::material::map::{self, Grid, MapOptions};
+    let mut grids: Vec<Grid> = views
+        .iter()
+        .map(|v| Grid { width: v.geometry.width, height: v.geometry.height, sample: vec![None; v.geometry.width * v.geometry.height] })
+        .collect();
+    for (k, &(view, pixel)) in samples.origin.iter().enumerate() {
+        grids[view].sample[pixel] = Some(k as u32);
+    }
+    let opts = MapOptions {
+        terms: args.terms.unwrap_or(MapOptions::default().terms),
+        coef_res: args.uv_res.unwrap_or(MapOptions::default().coef_res),
+        mapping: args.mapping,
+        ..Default::default()
+    };
+    map::fit(prepared, &samples.pattern, &samples.values, &grids, &opts)
 }
