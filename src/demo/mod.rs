@@ -72,15 +72,15 @@ pub fn retargets() -> [Retarget; 3] {
     [
         Retarget {
             model: "bunny",
-            preset: preset("demo-bunny", "light from the upper right", 20.0, 10.0, [0.9, 0.8, 0.6]),
+            preset: preset("demo-bunny", "light upper right", 20.0, 10.0, [0.9, 0.8, 0.6]),
         },
         Retarget {
             model: "suzanne",
-            preset: preset("demo-suzanne", "light from the right, low", -20.0, 12.0, [1.0, 0.15, 0.55]),
+            preset: preset("demo-suzanne", "light right, low", -20.0, 12.0, [1.0, 0.15, 0.55]),
         },
         Retarget {
             model: "teapot",
-            preset: preset("demo-teapot", "light from above, behind the camera", 25.0, 25.0, [-0.2, 1.0, 0.45]),
+            preset: preset("demo-teapot", "light above", 25.0, 25.0, [-0.2, 1.0, 0.45]),
         },
     ]
 }
@@ -423,7 +423,11 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
         "material", "painted from", "samples", "prep ms", "cache", "solve ms", "RMS", "rel", "max", "held-out"
     );
     for row in rows {
-        let what = if row.views > 1 { format!("{}, {} views", row.description, row.views) } else { row.description.clone() };
+        let what = if row.views > 1 {
+            format!("{}, {} views", row.description.trim_end_matches(" (ABC)"), row.views)
+        } else {
+            row.description.clone()
+        };
         let held = row.held_out.map_or("-".to_string(), |h| format!("{h:.4}"));
         let _ = writeln!(
             s,
@@ -447,8 +451,15 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
         "held-out: relative RMS against the true shading on {} lights and views nobody painted.",
         held_out_presets().len()
     );
-    let models: Vec<String> = retargets().iter().map(|r| format!("{} ({})", r.model, r.preset.description)).collect();
-    let _ = writeln!(s, "retargeted onto {} at {SIZE}x{SIZE}: {:.0} ms", models.join(", "), stages.renders * 1e3);
+    let _ = writeln!(
+        s,
+        "A MatCap is lit by its own studio lights, not by one light: its fit can only approximate it."
+    );
+    let models: Vec<String> = retargets()
+        .iter()
+        .map(|r| format!("{} ({})", r.model, r.preset.description.trim_start_matches("light ")))
+        .collect();
+    let _ = writeln!(s, "renders at {SIZE}x{SIZE}, new lights: {}: {:.0} ms", models.join(", "), stages.renders * 1e3);
     let _ = writeln!(
         s,
         "fits {:.0} ms, held-out checks {:.0} ms, contact sheet {:.0} ms; total {:.2} s",

@@ -85,14 +85,14 @@ impl Truth {
         !matches!(self, Truth::Matcap { .. })
     }
 
-    /// A short description for the summary.
+    /// A short description for the summary (at most 25 characters).
     pub fn describe(&self) -> String {
         match self {
             Truth::Analytic(Analytic::BlinnPhong { exponent, .. }) => format!("Blinn-Phong, n = {exponent}"),
             Truth::Analytic(Analytic::Gooch { .. }) => "Gooch warm-to-cool".into(),
             Truth::Analytic(a) => a.name(),
-            Truth::Abc { model, .. } => format!("MERL {} (ABC fit)", model.name),
-            Truth::Matcap { name } => format!("Blender MatCap {name} (CC0)"),
+            Truth::Abc { model, .. } => format!("MERL {} (ABC)", model.name),
+            Truth::Matcap { name } => format!("MatCap {name} (CC0)"),
         }
     }
 }
