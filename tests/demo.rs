@@ -109,7 +109,11 @@ fn writes_every_file_at_its_size() {
         assert_eq!(material.provenance.samples.to_string(), column(&runs().first.stdout, spec.name, SAMPLES));
         assert!(mat.join("report.png").is_file());
         for model in ["sphere", "bunny", "suzanne", "teapot"] {
-            assert_eq!(png_size(&d.join("renders").join(format!("{}-{model}.png", spec.name))), (side, side), "{model}");
+            assert_eq!(
+                png_size(&d.join("renders").join(format!("{}-{model}.png", spec.name))),
+                (side, side),
+                "{model}"
+            );
         }
     }
     let summary = std::fs::read_to_string(d.join("summary.txt")).unwrap();
@@ -125,7 +129,8 @@ fn writes_every_file_at_its_size() {
 /// with the library's fidelity code (not the demo's), on the demo's held-out views.
 fn held_out(name: &str, model: &Analytic) -> f64 {
     let mut sampler = SceneSampler::new().unwrap();
-    let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, 128).unwrap()).collect();
+    let held: Vec<StudyView> =
+        held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, 128).unwrap()).collect();
     let material = Material::load(&runs().dir.join("materials").join(name)).unwrap();
     held_out_error(&material, model, &held).unwrap()
 }

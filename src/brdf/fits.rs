@@ -6,9 +6,9 @@
 //! `../shared/data/merl-fits`). It is a microfacet model whose distribution is the paper's
 //! "ABC" curve in $1 - \cos\theta_h$:
 //!
-//! $$ f_r(\omega_l, \omega_v) = \frac{k_d}{\pi}
-//!   + \frac{F(\cos\theta_d; \eta)\, D(\cos\theta_h)\, G(\omega_l, \omega_v)}{\pi \cos\theta_l \cos\theta_v},
-//!   \qquad D = \frac{A}{\left(1 + B (1 - \cos\theta_h)\right)^{C}} $$
+//! $$ f_r(\omega_l, \omega_v) = \frac{k_d}{\pi} + \frac{F(\cos\theta_d; \eta)\, D(\cos\theta_h)\,
+//! G(\omega_l, \omega_v)}{\pi \cos\theta_l \cos\theta_v}, \qquad
+//! D = \frac{A}{\left(1 + B (1 - \cos\theta_h)\right)^{C}} $$
 //!
 //! with $\cos\theta_d = \omega_l\cdot\mathbf h$, the unpolarized dielectric Fresnel term
 //! $F$ of index $\eta$ (`ior`) and the Cook-Torrance V-groove shadowing
@@ -87,18 +87,25 @@ impl Abc {
     pub fn parse_row(row: &str) -> Result<Abc> {
         let cells: Vec<&str> = row.trim().split(',').collect();
         if cells.len() != 10 {
-            return Err(Error::input(format!("ABC row '{row}': expected 10 comma-separated fields, found {}", cells.len())));
+            return Err(Error::input(format!(
+                "ABC row '{row}': expected 10 comma-separated fields, found {}",
+                cells.len()
+            )));
         }
         let mut x = [0.0; 9];
         for (k, cell) in cells[1..].iter().enumerate() {
-            x[k] = cell
-                .trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite() && *v >= 0.0)
-                .ok_or_else(|| Error::input(format!("ABC row '{row}': field {} is not a non-negative number", k + 2)))?;
+            x[k] = cell.trim().parse::<f64>().ok().filter(|v| v.is_finite() && *v >= 0.0).ok_or_else(|| {
+                Error::input(format!("ABC row '{row}': field {} is not a non-negative number", k + 2))
+            })?;
         }
-        Ok(Abc { name: cells[0].trim().to_string(), kd: [x[0], x[1], x[2]], a: [x[3], x[4], x[5]], b: x[6], c: x[7], ior: x[8] })
+        Ok(Abc {
+            name: cells[0].trim().to_string(),
+            kd: [x[0], x[1], x[2]],
+            a: [x[3], x[4], x[5]],
+            b: x[6],
+            c: x[7],
+            ior: x[8],
+        })
     }
 
     /// Every material of a CSV file in the layout of `merl_abc_fits_low2012.csv` (a header
@@ -211,7 +218,8 @@ mod tests {
 
     #[test]
     fn bundled_rows_match_the_csv() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/merl-fits/merl_abc_fits_low2012.csv");
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/merl-fits/merl_abc_fits_low2012.csv");
         let Ok(text) = std::fs::read_to_string(&path) else {
             eprintln!("skipped: {} is not here", path.display());
             return;

@@ -71,7 +71,15 @@ pub struct Brush {
 impl Default for Brush {
     /// Sixty strokes 5-12 px wide, ±5% intensity and ±3% tint, four gaps.
     fn default() -> Self {
-        Brush { seed: 1, strokes: 60, half_width: (5.0, 12.0), length: (30.0, 90.0), intensity: 0.05, tint: 0.03, gaps: 4 }
+        Brush {
+            seed: 1,
+            strokes: 60,
+            half_width: (5.0, 12.0),
+            length: (30.0, 90.0),
+            intensity: 0.05,
+            tint: 0.03,
+            gaps: 4,
+        }
     }
 }
 
@@ -113,7 +121,8 @@ impl Stroke {
             let (a, b) = (polyline[k], polyline[k + 1]);
             let ab = b - a;
             // A zero-length segment (a stroke that doubles back) projects onto its start.
-            let u = if ab.length_squared() > 0.0 { ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0) } else { 0.0 };
+            let u =
+                if ab.length_squared() > 0.0 { ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0) } else { 0.0 };
             let d = (p - (a + u * ab)).length();
             if d < best {
                 best = d;
@@ -150,8 +159,8 @@ pub fn strokes(brush: &Brush, object: &[bool], width: usize, height: usize) -> (
     if on.is_empty() {
         return (Vec::new(), Vec::new());
     }
-    let centre = on.iter().fold(DVec2::ZERO, |c, &k| c + DVec2::new((k % width) as f64, (k / width) as f64))
-        / on.len() as f64;
+    let centre =
+        on.iter().fold(DVec2::ZERO, |c, &k| c + DVec2::new((k % width) as f64, (k / width) as f64)) / on.len() as f64;
     let make = |rng: &mut SplitMix, half_width: (f64, f64), length: (f64, f64), gap: bool| {
         let k = on[(rng.uniform() * on.len() as f64) as usize % on.len()];
         let start = DVec2::new((k % width) as f64 + 0.5, (k / width) as f64 + 0.5);
@@ -192,8 +201,8 @@ pub fn gain_field(strokes: &[Stroke], width: usize, height: usize) -> Vec<[f64; 
                 // Bristle lines: ±1.5% ripples across the stroke, about 2 px apart.
                 let bristle = 1.0 + 0.015 * (side * 3.1 + s.phase).sin();
                 let px = &mut m[j * width + i];
-                for c in 0..3 {
-                    px[c] = (1.0 - w) * px[c] + w * s.gain[c] * bristle;
+                for (x, g) in px.iter_mut().zip(s.gain) {
+                    *x = (1.0 - w) * *x + w * g * bristle;
                 }
             }
         }
@@ -228,7 +237,8 @@ mod tests {
     #[test]
     fn seeded_and_bounded() {
         let (w, h) = (64, 64);
-        let object: Vec<bool> = (0..w * h).map(|k| ((k % w) as f64 - 32.0).hypot((k / w) as f64 - 32.0) < 25.0).collect();
+        let object: Vec<bool> =
+            (0..w * h).map(|k| ((k % w) as f64 - 32.0).hypot((k / w) as f64 - 32.0) < 25.0).collect();
         let brush = Brush { strokes: 20, ..Brush::default() };
         let (a, gaps) = strokes(&brush, &object, w, h);
         assert_eq!(a, strokes(&brush, &object, w, h).0, "same seed, same strokes");

@@ -183,7 +183,13 @@ mod tests {
         img.pixels[5] = [0.25, 0.5, 0.75, 1.0];
         let mut painting = Painting::opaque(cell, cell, vec![[0.1, 0.2, 0.3]; cell * cell]).unwrap();
         painting.alpha[0] = 0.0;
-        let row = vec![Tile::Painting(&painting), Tile::Render(&img), Tile::Render(&img), Tile::Render(&img), Tile::Render(&img)];
+        let row = vec![
+            Tile::Painting(&painting),
+            Tile::Render(&img),
+            Tile::Render(&img),
+            Tile::Render(&img),
+            Tile::Render(&img),
+        ];
         let sheet = compose(cell, &[row]).unwrap();
         let (x, y) = Layout { rows: 1, cell }.origin(0, 3);
         assert_eq!(sheet.pixels[(y + 1) * sheet.width + x + 1], [0.25, 0.5, 0.75]);

@@ -70,18 +70,12 @@ pub fn retargets() -> [Retarget; 3] {
         light_in_view: light,
     };
     [
-        Retarget {
-            model: "bunny",
-            preset: preset("demo-bunny", "light upper right", 20.0, 10.0, [0.9, 0.8, 0.6]),
-        },
+        Retarget { model: "bunny", preset: preset("demo-bunny", "light upper right", 20.0, 10.0, [0.9, 0.8, 0.6]) },
         Retarget {
             model: "suzanne",
             preset: preset("demo-suzanne", "light right, low", -20.0, 12.0, [1.0, 0.15, 0.55]),
         },
-        Retarget {
-            model: "teapot",
-            preset: preset("demo-teapot", "light above", 25.0, 25.0, [-0.2, 1.0, 0.45]),
-        },
+        Retarget { model: "teapot", preset: preset("demo-teapot", "light above", 25.0, 25.0, [-0.2, 1.0, 0.45]) },
     ]
 }
 
@@ -256,7 +250,8 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
         held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, HELD_OUT_SIZE)).collect::<Result<_>>()?;
     let mut rows = Vec::new();
     for (spec, f) in specs.iter().zip(&fitted) {
-        let held_out = if spec.truth.is_known() { Some(held_out_error(&f.material, &spec.truth, &held)?) } else { None };
+        let held_out =
+            if spec.truth.is_known() { Some(held_out_error(&f.material, &spec.truth, &held)?) } else { None };
         rows.push(Row { held_out, ..f.row.clone() });
     }
     stages.held_out = t.elapsed().as_secs_f64();
@@ -270,7 +265,8 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
         scenes.push((r.model, frame(builtin_model(r.model)?, &r.preset, 1.0)));
     }
     let renderer = sampler.renderer();
-    let gpu_scenes: Vec<GpuScene> = scenes.iter().map(|(_, s)| GpuScene::upload(renderer.gl(), s)).collect::<Result<_>>()?;
+    let gpu_scenes: Vec<GpuScene> =
+        scenes.iter().map(|(_, s)| GpuScene::upload(renderer.gl(), s)).collect::<Result<_>>()?;
     let mut renders: Vec<Vec<Image>> = Vec::new();
     for (spec, f) in specs.iter().zip(&fitted) {
         let shading = Shading::from_material(&f.material)?;
@@ -451,10 +447,7 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
         "held-out: relative RMS against the true shading on {} lights and views nobody painted.",
         held_out_presets().len()
     );
-    let _ = writeln!(
-        s,
-        "A MatCap is lit by its own studio lights, not by one light: its fit can only approximate it."
-    );
+    let _ = writeln!(s, "A MatCap is lit by its own studio lights, not by one light: its fit can only approximate it.");
     let models: Vec<String> = retargets()
         .iter()
         .map(|r| format!("{} ({})", r.model, r.preset.description.trim_start_matches("light ")))

@@ -154,7 +154,11 @@ pub fn materials() -> Vec<MaterialSpec> {
             truth: Truth::Analytic(plastic()),
             paintings: vec![painting!("plastic.png", 0, Some(1))],
         },
-        MaterialSpec { name: "gooch", truth: Truth::Analytic(gooch()), paintings: vec![painting!("gooch.png", 0, Some(2))] },
+        MaterialSpec {
+            name: "gooch",
+            truth: Truth::Analytic(gooch()),
+            paintings: vec![painting!("gooch.png", 0, Some(2))],
+        },
         MaterialSpec { name: "gold-paint", truth: abc("gold-paint", GOLD_EXPOSURE), paintings: vec![gold] },
         MaterialSpec {
             name: "gold-paint-2-views",
@@ -203,7 +207,8 @@ impl Canvas {
         let img = image::RgbaImage::from_raw(self.width as u32, self.height as u32, raw)
             .ok_or_else(|| Error::input("pixel buffer does not match the painting size"))?;
         let mut out = std::io::Cursor::new(Vec::new());
-        img.write_to(&mut out, image::ImageFormat::Png).map_err(|e| Error::input(format!("PNG encoding failed: {e}")))?;
+        img.write_to(&mut out, image::ImageFormat::Png)
+            .map_err(|e| Error::input(format!("PNG encoding failed: {e}")))?;
         Ok(out.into_inner())
     }
 
@@ -215,8 +220,8 @@ impl Canvas {
 
 /// The light's colour × intensity of a scene (white, 1, for the framed scenes).
 fn light_rgb(scene: &Scene) -> [f64; 3] {
-    let (crate::scene::Light::Directional { color, intensity, .. } | crate::scene::Light::Point { color, intensity, .. }) =
-        scene.light;
+    let (crate::scene::Light::Directional { color, intensity, .. }
+    | crate::scene::Light::Point { color, intensity, .. }) = scene.light;
     (color * intensity).as_dvec3().to_array()
 }
 
