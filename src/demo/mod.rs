@@ -75,7 +75,7 @@ pub fn retargets() -> [Retarget; 3] {
             model: "suzanne",
             preset: preset("demo-suzanne", "light right, low", -20.0, 12.0, [1.0, 0.15, 0.55]),
         },
-        Retarget { model: "teapot", preset: preset("demo-teapot", "light above", 25.0, 25.0, [-0.2, 1.0, 0.45]) },
+        Retarget { model: "teapot", preset: preset("demo-teapot", "light left, low", 25.0, 20.0, [-0.85, 0.3, 0.75]) },
     ]
 }
 
