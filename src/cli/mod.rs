@@ -20,8 +20,11 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// The main job on bundled paintings, headless: sheet, paintings, fits, retargets onto
-    /// bunny, suzanne and teapot, contact.png and summary.txt in DIR.
+    /// The main job, headless: fit the bundled paintings and retarget them (DIR/contact.png).
+    ///
+    /// Writes the sphere's sheet, the bundled paintings, their fitted materials, renders on
+    /// the sphere, bunny, suzanne and teapot under new lights, contact.png and summary.txt
+    /// into DIR, and prints the summary.
     Demo(demo::DemoArgs),
     /// Fit a material to paintings of scenes, or to measured data.
     Fit(Box<fit::FitArgs>),
