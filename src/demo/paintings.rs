@@ -7,7 +7,7 @@
 //! - analytic models (Blinn-Phong plastic, Gooch warm-to-cool with its unlit side painted
 //!   blue) and measured-like materials (the ABC fits of two MERL materials, [`Abc`]) are
 //!   their true shading function $S(l, v)$ at each pixel's G-buffer query, under
-//!   [`brush`] noise: soft strokes of ±5% intensity and ±3% tint, and a few
+//!   [`brush`](mod@super::brush) noise: soft strokes of ±5% intensity and ±3% tint, and a few
 //!   unpainted (alpha 0) gaps;
 //! - the MatCap is one of Blender's CC0 MatCaps (`toon`), a picture of a sphere seen from
 //!   the front, mapped onto the sphere scene's pixels through each pixel's view-space
