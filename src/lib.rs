@@ -35,6 +35,7 @@
 pub mod bench;
 pub mod brdf;
 pub mod cli;
+pub mod demo;
 pub mod error;
 pub mod factor;
 pub mod gl;

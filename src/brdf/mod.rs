@@ -3,9 +3,11 @@
 //! them into a sample pattern.
 
 mod analytic;
+mod fits;
 mod merl;
 mod sphere;
 
 pub use analytic::Analytic;
+pub use fits::{fresnel_dielectric, Abc};
 pub use merl::Merl;
 pub use sphere::{held_out_views, painted_views, relative_rms, SpherePixel, SphereView};

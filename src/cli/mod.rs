@@ -2,6 +2,7 @@
 //! to end; errors are one line on stderr with exit code 1, usage errors exit with 2.
 
 mod bench;
+mod demo;
 mod fit;
 mod render;
 mod sheet;
@@ -19,6 +20,12 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// The main job, headless: fit the bundled paintings and retarget them (DIR/contact.png).
+    ///
+    /// Writes the sphere's sheet, the bundled paintings, their fitted materials, renders on
+    /// the sphere, bunny, suzanne and teapot under new lights, contact.png and summary.txt
+    /// into DIR, and prints the summary.
+    Demo(demo::DemoArgs),
     /// Fit a material to paintings of scenes, or to measured data.
     Fit(Box<fit::FitArgs>),
     /// Render a material on a scene, headless, to PNG or EXR (or a turntable / light sweep).
@@ -50,6 +57,7 @@ pub fn run() -> ExitCode {
         }
     };
     let result = match cli.command {
+        Command::Demo(args) => demo::run(args),
         Command::Fit(args) => fit::run(*args),
         Command::Render(args) => render::run(args),
         Command::Sheet(args) => sheet::run(args),

@@ -1,0 +1,476 @@
+//! `brdfpaint demo`: the whole story on bundled paintings, headless, in seconds.
+//!
+//! 1. The coloring-book sheet of the standard scene (the built-in sphere, `front-left`, 256²)
+//!    and of a second view ([`paintings::views`]).
+//! 2. The bundled paintings ([`paintings::materials`]): analytic models and MERL fits painted
+//!    with brush noise and unpainted gaps, and a Blender MatCap.
+//! 3. Each material is fitted exactly as `brdfpaint fit --scene DIR/sheet/scene.gltf --image
+//!    DIR/paintings/P.png` fits it: sampled through the G-buffer, prepared through the cache
+//!    (a standard scene is prepared once, ever), solved in milliseconds. Where the truth is
+//!    known, the material is judged against it on three lights and views nobody painted.
+//! 4. The recovered materials are rendered on the sphere they were painted on and retargeted
+//!    onto the bunny, Suzanne and the teapot under new lights ([`retargets`]).
+//! 5. A contact sheet ([`contact`]) and a one-screen summary.
+//!
+//! ```text
+//! DIR/summary.txt            the summary (its first line marks DIR as a demo directory)
+//! DIR/contact.png            rows = materials; painting | fit | bunny | suzanne | teapot
+//! DIR/contact-small.png      the same at half size
+//! DIR/sheet/, DIR/sheet-2/   outline.png, reference.png, mask.png, scene.gltf
+//! DIR/paintings/*.png        the bundled paintings
+//! DIR/materials/NAME/        material.json, factor EXRs, report.png
+//! DIR/renders/NAME-MODEL.png the renders of the contact sheet
+//! ```
+//!
+//! DIR is written as a whole: everything goes into a temporary sibling first, which then
+//! replaces DIR. Only a new or empty directory, or an earlier demo directory, is written.
+
+pub mod brush;
+pub mod contact;
+pub mod paintings;
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::error::{Error, Result};
+use crate::factor::cache::{Cache, Outcome};
+use crate::factor::{defaults, Errors, Mapping, Settings};
+use crate::images::Painting;
+use crate::material::{Material, Provenance};
+use crate::render::{GpuScene, Image, Shading, Sheet};
+use crate::sample::fidelity::{held_out_presets, StudyView};
+use crate::sample::scene::geometry_from_gbuffer;
+use crate::sample::{self, check_same_model, report, Erosion, PaintedView, Samples, SceneSampler};
+use crate::scene::{builtin_model, frame, Light, Preset, Scene};
+use paintings::{MaterialSpec, Truth, SIZE};
+
+/// Where `brdfpaint demo` writes by default.
+pub const DEFAULT_DIR: &str = "demo-out";
+/// The first line of every demo's summary.txt begins with this; it is what marks a
+/// directory as a demo directory that a new demo may replace.
+pub const MARK: &str = "brdfpaint demo";
+/// Side of the held-out views, pixels (enough pixels to judge, cheap to evaluate).
+const HELD_OUT_SIZE: usize = 128;
+
+/// A model the recovered materials are retargeted onto, framed by its own preset.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Retarget {
+    pub model: &'static str,
+    pub preset: Preset,
+}
+
+/// The retarget scenes, in contact-sheet order: each under a light no painting used.
+pub fn retargets() -> [Retarget; 3] {
+    let preset = |name, description, az, el, light| Preset {
+        name,
+        description,
+        view_azimuth_deg: az,
+        view_elevation_deg: el,
+        light_in_view: light,
+    };
+    [
+        Retarget { model: "bunny", preset: preset("demo-bunny", "light upper right", 20.0, 10.0, [0.9, 0.8, 0.6]) },
+        Retarget {
+            model: "suzanne",
+            preset: preset("demo-suzanne", "light right, low", -20.0, 12.0, [1.0, 0.15, 0.55]),
+        },
+        Retarget { model: "teapot", preset: preset("demo-teapot", "light left, low", 25.0, 20.0, [-0.85, 0.3, 0.75]) },
+    ]
+}
+
+/// One fitted material's line of the summary.
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub name: String,
+    pub description: String,
+    /// Views fitted together.
+    pub views: usize,
+    pub samples: usize,
+    /// Seconds to prepare (or load from the cache) and to solve.
+    pub prepare_s: f64,
+    pub solve_s: f64,
+    pub outcome: Outcome,
+    /// Errors on the painted samples.
+    pub errors: Errors,
+    /// Relative RMS against the true shading on the held-out views, where it is known.
+    pub held_out: Option<f64>,
+}
+
+impl Row {
+    /// `hit`, `miss`, `rebuilt` or `none` (no cache).
+    pub fn cache_word(&self) -> &'static str {
+        match self.outcome {
+            Outcome::Hit => "hit",
+            Outcome::Miss => "miss",
+            Outcome::Rebuilt(_) => "rebuilt",
+            Outcome::Uncached(_) => "none",
+        }
+    }
+}
+
+/// What a demo run did.
+#[derive(Clone, Debug)]
+pub struct Report {
+    pub rows: Vec<Row>,
+    /// The summary text (also DIR/summary.txt).
+    pub summary: String,
+    pub total_s: f64,
+}
+
+/// What is at the output path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Target {
+    /// Nothing, or an empty directory.
+    Fresh,
+    /// An earlier demo directory.
+    Demo,
+}
+
+/// Whether a demo may be written to `dir`: nothing is there, an empty directory, or an
+/// earlier demo (a summary.txt whose first line begins with [`MARK`]). Anything else is
+/// refused with one line, before any work.
+pub fn check_output(dir: &Path) -> Result<()> {
+    target(dir).map(|_| ())
+}
+
+fn target(dir: &Path) -> Result<Target> {
+    let meta = match std::fs::symlink_metadata(dir) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Target::Fresh),
+        Err(e) => return Err(Error::io(dir, e)),
+    };
+    if !meta.is_dir() {
+        return Err(Error::input(format!("{} exists and is not a directory; not overwriting it", dir.display())));
+    }
+    if std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?.next().is_none() {
+        return Ok(Target::Fresh);
+    }
+    let marked = std::fs::read_to_string(dir.join("summary.txt")).is_ok_and(|s| s.starts_with(MARK));
+    if marked {
+        Ok(Target::Demo)
+    } else {
+        Err(Error::input(format!(
+            "{} exists and is not a demo directory (no summary.txt written by brdfpaint demo); not overwriting it",
+            dir.display()
+        )))
+    }
+}
+
+/// Replaces `dir` by the finished `tmp`.
+fn commit(tmp: &Path, dir: &Path, expected: Target) -> Result<()> {
+    // The directory may have changed while the demo ran.
+    if target(dir)? != expected {
+        return Err(Error::input(format!("{} changed while the demo ran; not overwriting it", dir.display())));
+    }
+    match expected {
+        Target::Fresh => {
+            if dir.exists() {
+                // Empty (checked just above): rename cannot replace a directory everywhere.
+                std::fs::remove_dir(dir).map_err(|e| Error::io(dir, e))?;
+            }
+            std::fs::rename(tmp, dir).map_err(|e| Error::io(dir, e))
+        }
+        Target::Demo => {
+            let old = crate::util::temp_sibling(dir);
+            std::fs::rename(dir, &old).map_err(|e| Error::io(dir, e))?;
+            if let Err(e) = std::fs::rename(tmp, dir) {
+                let _ = std::fs::rename(&old, dir);
+                return Err(Error::io(dir, e));
+            }
+            let _ = std::fs::remove_dir_all(&old);
+            Ok(())
+        }
+    }
+}
+
+/// Runs the demo into `dir`, preparing through `cache` (`None`: prepare every time).
+pub fn run(dir: &Path, cache: Option<&Cache>) -> Result<Report> {
+    let expected = target(dir)?;
+    let tmp = crate::util::temp_sibling(dir);
+    std::fs::create_dir_all(&tmp).map_err(|e| Error::io(&tmp, e))?;
+    let result = run_into(&tmp, dir, cache).and_then(|report| commit(&tmp, dir, expected).map(|()| report));
+    if tmp.exists() {
+        let _ = std::fs::remove_dir_all(&tmp);
+    }
+    result
+}
+
+/// Timings of the stages, seconds.
+#[derive(Default)]
+struct Stages {
+    sheets: f64,
+    fits: f64,
+    held_out: f64,
+    renders: f64,
+    contact: f64,
+}
+
+fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
+    let start = Instant::now();
+    let mut stages = Stages::default();
+    let mut sampler = SceneSampler::new()?;
+
+    // 1. The sheets of the painted views.
+    let t = Instant::now();
+    let views = paintings::views();
+    let mut scene_paths = Vec::new();
+    for (k, view) in views.iter().enumerate() {
+        let scene = paintings::view_scene(k)?;
+        let sheet = Sheet::render(sampler.renderer(), &scene, SIZE, SIZE)?;
+        let path = tmp.join(view.dir);
+        sheet.save(&scene, &path)?;
+        scene_paths.push(path.join("scene.gltf"));
+    }
+    stages.sheets = t.elapsed().as_secs_f64();
+
+    // 2-3. The paintings, fitted as `brdfpaint fit` fits them.
+    let t = Instant::now();
+    let specs = paintings::materials();
+    let settings = Settings::uniform(1, defaults::RES_1D);
+    let paintings_dir = tmp.join("paintings");
+    std::fs::create_dir_all(&paintings_dir).map_err(|e| Error::io(&paintings_dir, e))?;
+    for spec in &specs {
+        for p in &spec.paintings {
+            let path = paintings_dir.join(p.file);
+            if !path.exists() {
+                crate::util::write_atomic(&path, p.bytes)?;
+            }
+        }
+    }
+    let mut fitted = Vec::new();
+    for spec in &specs {
+        fitted.push(fit_material(&mut sampler, spec, tmp, &scene_paths, &settings, cache)?);
+    }
+    stages.fits = t.elapsed().as_secs_f64();
+
+    // Held-out lights and views: the truth against the material where nobody painted.
+    let t = Instant::now();
+    let held: Vec<StudyView> =
+        held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, HELD_OUT_SIZE)).collect::<Result<_>>()?;
+    let mut rows = Vec::new();
+    for (spec, f) in specs.iter().zip(&fitted) {
+        let held_out =
+            if spec.truth.is_known() { Some(held_out_error(&f.material, &spec.truth, &held)?) } else { None };
+        rows.push(Row { held_out, ..f.row.clone() });
+    }
+    stages.held_out = t.elapsed().as_secs_f64();
+
+    // 4. Renders: on the painted sphere, and retargeted.
+    let t = Instant::now();
+    let renders_dir = tmp.join("renders");
+    std::fs::create_dir_all(&renders_dir).map_err(|e| Error::io(&renders_dir, e))?;
+    let mut scenes: Vec<(&str, Scene)> = vec![("sphere", Scene::load(&scene_paths[0])?)];
+    for r in retargets() {
+        scenes.push((r.model, frame(builtin_model(r.model)?, &r.preset, 1.0)));
+    }
+    let renderer = sampler.renderer();
+    let gpu_scenes: Vec<GpuScene> =
+        scenes.iter().map(|(_, s)| GpuScene::upload(renderer.gl(), s)).collect::<Result<_>>()?;
+    let mut renders: Vec<Vec<Image>> = Vec::new();
+    for (spec, f) in specs.iter().zip(&fitted) {
+        let shading = Shading::from_material(&f.material)?;
+        let gpu = renderer.upload(&shading)?;
+        let mut row = Vec::new();
+        for ((model, _), scene) in scenes.iter().zip(&gpu_scenes) {
+            let image = renderer.factored(scene, &gpu, SIZE, SIZE)?;
+            image.to_rgb().write_png(&renders_dir.join(format!("{}-{model}.png", spec.name)))?;
+            row.push(image);
+        }
+        renders.push(row);
+    }
+    stages.renders = t.elapsed().as_secs_f64();
+
+    // 5. The contact sheet: the painting of each row is its last view's.
+    let t = Instant::now();
+    let shown: Vec<&Painting> = fitted.iter().map(|f| f.last_painting()).collect();
+    let tiles: Vec<Vec<contact::Tile>> = shown
+        .iter()
+        .zip(&renders)
+        .map(|(p, r)| std::iter::once(contact::Tile::Painting(p)).chain(r.iter().map(contact::Tile::Render)).collect())
+        .collect();
+    let sheet = contact::compose(SIZE, &tiles)?;
+    sheet.write_png(&tmp.join("contact.png"))?;
+    contact::downsample(&sheet, 2)?.write_png(&tmp.join("contact-small.png"))?;
+    stages.contact = t.elapsed().as_secs_f64();
+
+    let total_s = start.elapsed().as_secs_f64();
+    let summary = summary(&rows, &stages, dir, cache, total_s);
+    crate::util::write_atomic(&tmp.join("summary.txt"), summary.as_bytes())?;
+    Ok(Report { rows, summary, total_s })
+}
+
+/// A fitted material and what the summary says about it.
+struct Fitted {
+    material: Material,
+    views: Vec<PaintedView>,
+    row: Row,
+}
+
+impl Fitted {
+    fn last_painting(&self) -> &Painting {
+        &self.views.last().expect("a material has a painting").painting
+    }
+}
+
+/// Fits one material from its paintings: the code path of `brdfpaint fit --scene S --image P
+/// [--scene S2 --image P2]` with the default settings, writing `materials/NAME/` with its
+/// report.png.
+fn fit_material(
+    sampler: &mut SceneSampler,
+    spec: &MaterialSpec,
+    tmp: &Path,
+    scene_paths: &[PathBuf],
+    settings: &Settings,
+    cache: Option<&Cache>,
+) -> Result<Fitted> {
+    let mut views = Vec::new();
+    let mut scenes: Vec<(Scene, String)> = Vec::new();
+    let mut sources = Vec::new();
+    for p in &spec.paintings {
+        let scene_path = &scene_paths[p.view];
+        let painting_path = tmp.join("paintings").join(p.file);
+        let (scene, mut view) = sampler.load_view(scene_path, &painting_path, Erosion::default())?;
+        // Name the files as they are in DIR, not in the temporary directory.
+        let scene_name = format!("{}/scene.gltf", paintings::views()[p.view].dir);
+        view.name = format!("paintings/{}", p.file);
+        view.source = scene_name.clone();
+        if let Some((first, first_name)) = scenes.first() {
+            check_same_model(first, first_name, &scene, &scene_name)?;
+        }
+        sources.push(scene_name.clone());
+        sources.push(view.name.clone());
+        scenes.push((scene, scene_name));
+        views.push(view);
+    }
+    let samples = Samples::gather(&views)?;
+    let fitted = sample::fit(&samples, settings, Mapping::Auto, cache)?;
+    let provenance = Provenance {
+        tool: format!("brdfpaint {} (demo)", env!("CARGO_PKG_VERSION")),
+        sources,
+        errors: Some(fitted.fit.errors),
+        samples: samples.len(),
+        prepare_s: fitted.prepare_s,
+        solve_s: fitted.solve_s,
+    };
+    let material = Material::from_fit(settings, &fitted.fit, provenance)?;
+    let out = tmp.join("materials").join(spec.name);
+    material.save(&out)?;
+    report::image(&views, &material)?.write_png(&out.join("report.png"))?;
+    let row = Row {
+        name: spec.name.to_string(),
+        description: spec.truth.describe(),
+        views: views.len(),
+        samples: samples.len(),
+        prepare_s: fitted.prepare_s,
+        solve_s: fitted.solve_s,
+        outcome: fitted.outcome,
+        errors: fitted.fit.errors,
+        held_out: None,
+    };
+    Ok(Fitted { material, views, row })
+}
+
+/// Relative RMS $\sqrt{\sum (m - t)^2 / \sum t^2}$ of `material` against the true shading
+/// function over every usable pixel of the held-out views, all channels.
+pub fn held_out_error(material: &Material, truth: &Truth, held_out: &[StudyView]) -> Result<f64> {
+    let white = Light::Directional { direction: -glam::Vec3::Z, color: glam::Vec3::ONE, intensity: 1.0 };
+    let (mut num, mut den) = (0.0, 0.0);
+    for view in held_out {
+        let g = geometry_from_gbuffer(&view.gbuffer, &white, true, Erosion::default())?;
+        for (px, _) in g.pixels.iter().zip(&g.usable).filter(|(_, &u)| u) {
+            let q = px.expect("usable pixels have geometry").query;
+            let Some(t) = truth.shading(q.l, q.v) else {
+                return Err(Error::input("the held-out error needs a known shading function"));
+            };
+            let m = material.eval(&q);
+            for c in 0..3 {
+                num += (m[c] - t[c]).powi(2);
+                den += t[c] * t[c];
+            }
+        }
+    }
+    Ok((num / den.max(f64::MIN_POSITIVE)).sqrt())
+}
+
+/// The one-screen summary.
+fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, total_s: f64) -> String {
+    let mut s = String::new();
+    let d = dir.display();
+    let _ = writeln!(s, "{MARK} {}: paint a sphere, fit, retarget", env!("CARGO_PKG_VERSION"));
+    let _ = writeln!(
+        s,
+        "sheets: sphere front-left and a second view, {SIZE}x{SIZE} ({:.0} ms); factors p(l) q(h) r(v), 1D, {} nodes",
+        stages.sheets * 1e3,
+        defaults::RES_1D
+    );
+    let _ = match cache {
+        Some(c) => {
+            // The cache's directory: where any of its files goes.
+            let file = c.path(&crate::factor::Pattern::default(), &Settings::default());
+            writeln!(s, "prepared systems cached in {}", file.parent().unwrap_or(Path::new(".")).display())
+        }
+        None => writeln!(s, "no prepare cache (no home directory): every system prepared afresh"),
+    };
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "{:<18} {:<25} {:>7} {:>8} {:>5} {:>8} {:>8} {:>6} {:>6} {:>8}",
+        "material", "painted from", "samples", "prep ms", "cache", "solve ms", "RMS", "rel", "max", "held-out"
+    );
+    for row in rows {
+        let what = if row.views > 1 {
+            format!("{}, {} views", row.description.trim_end_matches(" (ABC)"), row.views)
+        } else {
+            row.description.clone()
+        };
+        let held = row.held_out.map_or("-".to_string(), |h| format!("{h:.4}"));
+        let _ = writeln!(
+            s,
+            "{:<18} {:<25} {:>7} {:>8.1} {:>5} {:>8.2} {:>8.5} {:>6.4} {:>6.3} {:>8}",
+            row.name,
+            truncate(&what, 25),
+            row.samples,
+            row.prepare_s * 1e3,
+            row.cache_word(),
+            row.solve_s * 1e3,
+            row.errors.rms,
+            row.errors.rms_relative,
+            row.errors.max,
+            held
+        );
+    }
+    let _ = writeln!(s);
+    let _ = writeln!(s, "RMS, rel (relative RMS) and max: the fit against its painted samples (linear RGB).");
+    let _ = writeln!(
+        s,
+        "held-out: relative RMS against the true shading on {} lights and views nobody painted.",
+        held_out_presets().len()
+    );
+    let _ = writeln!(s, "A MatCap is lit by its own studio lights, not by one light: its fit can only approximate it.");
+    let models: Vec<String> = retargets()
+        .iter()
+        .map(|r| format!("{} ({})", r.model, r.preset.description.trim_start_matches("light ")))
+        .collect();
+    let _ = writeln!(s, "renders at {SIZE}x{SIZE}, new lights: {}: {:.0} ms", models.join(", "), stages.renders * 1e3);
+    let _ = writeln!(
+        s,
+        "fits {:.0} ms, held-out checks {:.0} ms, contact sheet {:.0} ms; total {:.2} s",
+        stages.fits * 1e3,
+        stages.held_out * 1e3,
+        stages.contact * 1e3,
+        total_s
+    );
+    let _ = writeln!(s, "wrote {d}/: contact.png, summary.txt, sheet/, sheet-2/, paintings/, materials/, renders/");
+    s
+}
+
+fn truncate(text: &str, n: usize) -> String {
+    if text.chars().count() <= n {
+        text.to_string()
+    } else {
+        let mut t: String = text.chars().take(n - 1).collect();
+        t.push('…');
+        t
+    }
+}
