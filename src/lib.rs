@@ -43,5 +43,6 @@ pub mod material;
 pub mod render;
 pub mod scene;
 pub mod util;
+pub mod viewer;
 
 pub use error::{Error, Result};

@@ -3,6 +3,7 @@
 
 mod bench;
 mod fit;
+mod view;
 
 use std::process::ExitCode;
 
@@ -19,6 +20,8 @@ struct Cli {
 enum Command {
     /// Fit a material to measured data.
     Fit(fit::FitArgs),
+    /// The real-time window: a material on a model, live painting, watch mode.
+    View(view::ViewArgs),
     /// Reproduce the thesis's timing tables (5.1, 5.2) on this machine.
     Bench {
         /// Print one JSON array of cases instead of a table.
@@ -46,6 +49,7 @@ pub fn run() -> ExitCode {
     let result = match cli.command {
         Command::Fit(args) => fit::run(args),
         Command::Bench { json, quick } => bench::run(json, quick),
+        Command::View(args) => view::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
