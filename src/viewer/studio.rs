@@ -133,17 +133,20 @@ fn model_entry_name(path: &Path) -> String {
     path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| path.display().to_string())
 }
 
-/// The bundled default painting: a glossy orange ceramic with a cool fill light on its
-/// unlit side (Blinn-Phong plus a constant), evaluated at the view's own samples. Fitting it
-/// is the material a first run shows.
+/// The bundled default painting: glossy orange ceramic with a cool fill on its unlit side,
+/// painted procedurally at the view's own samples. Its fit is the material a first run shows.
 pub fn example_painting(view: &PaintView) -> Painting {
-    use crate::brdf::Analytic;
-    let model = Analytic::BlinnPhong { diffuse: [0.80, 0.32, 0.10], specular: [0.35, 0.33, 0.30], exponent: 60.0 };
-    let fill = [0.018, 0.024, 0.045];
+    // What a painter puts down: a base colour shaded by cos θ_l, a soft white highlight
+    // around the mirror direction ($n \cdot h$), and a cool fill on the unlit side.
+    let base = [0.80, 0.36, 0.12];
+    let fill = [0.030, 0.040, 0.075];
     let mut p = Painting { width: view.width, height: view.height, pixels: vec![[0.0; 4]; view.width * view.height] };
     for slot in &view.slots {
-        let s = model.shading(slot.query.l, slot.query.v);
-        let c = [0, 1, 2].map(|k| ((s[k] + fill[k]) / slot.scale[k]) as f32);
+        let (l, v) = (slot.query.l, slot.query.v);
+        let h = (l + v).normalize_or(glam::DVec3::Z);
+        let lit = l.z.max(0.0);
+        let highlight = 0.55 * h.z.max(0.0).powf(80.0) * lit.sqrt();
+        let c = [0, 1, 2].map(|k| ((base[k] * lit + highlight + fill[k] * (1.0 - 0.5 * lit)) / slot.scale[k]) as f32);
         p.pixels[slot.pixel as usize] = [c[0], c[1], c[2], 1.0];
     }
     p
@@ -411,7 +414,7 @@ impl Studio {
             egui::ScrollArea::vertical().show(ui, |ui| self.controls(renderer, ui));
         });
         self.panel_rect = Some(self.to_pixels(panel.response.rect));
-        egui::Panel::bottom("tables").default_size(150.0).resizable(true).show(ui, |ui| self.tables_ui(ui));
+        egui::Panel::bottom("tables").default_size(170.0).min_size(120.0).resizable(true).show(ui, |ui| self.tables_ui(ui));
         egui::CentralPanel::no_frame().show(ui, |ui| self.central(ui));
     }
 
@@ -610,7 +613,7 @@ impl Studio {
         egui::CollapsingHeader::new("Timing").default_open(true).show(ui, |ui| {
             let t = &self.timings;
             if t.count == 0 {
-                ui.label("Paint a stroke to measure stroke → frame.");
+                ui.label("Paint a stroke to measure stroke -> frame.");
             } else {
                 let frame = 1000.0 / 60.0;
                 egui::Grid::new("timing").num_columns(2).show(ui, |ui| {
@@ -625,14 +628,14 @@ impl Studio {
                         ui.label(format!("{v:.2} ms"));
                         ui.end_row();
                     }
-                    ui.strong("stroke → frame");
+                    ui.strong("stroke -> frame");
                     let c = if t.total_ms <= frame { Color32::from_rgb(90, 200, 110) } else { Color32::from_rgb(230, 120, 80) };
                     ui.colored_label(c, format!("{:.2} ms ({} samples)", t.total_ms, t.samples));
                     ui.end_row();
                 });
             }
             if let Some(r) = &self.last_refit {
-                let what = if r.exact { "exact" } else { "preparing the new pixels…" };
+                let what = if r.exact { "exact" } else { "preparing the new pixels..." };
                 ui.small(format!(
                     "{} samples, mapping {}, {what}{}",
                     r.samples,
@@ -641,7 +644,7 @@ impl Studio {
                 ));
             }
             if self.session.preparing() {
-                ui.small("preparing the system for the painted pixels (background)…");
+                ui.small("preparing the system for the painted pixels (background)...");
             }
         });
 
@@ -729,7 +732,11 @@ impl Studio {
                 for name in preset_names() {
                     let open = self.view_names.iter().position(|n| n == name);
                     let painted = open.is_some_and(|k| self.session.views[k].canvas.painting().painted() > 0);
-                    let label = if painted { format!("● {name}") } else { name.to_string() };
+                    let label = if painted {
+                        egui::RichText::new(format!("{name} *")).strong().color(Color32::from_rgb(250, 170, 80))
+                    } else {
+                        egui::RichText::new(name)
+                    };
                     let selected = open == Some(self.active);
                     if ui.selectable_label(selected, label).clicked() {
                         match self.open_view(renderer, name) {
@@ -1108,7 +1115,7 @@ fn short(s: &str) -> String {
     if n <= 32 {
         s.to_string()
     } else {
-        format!("…{}", s.chars().skip(n - 31).collect::<String>())
+        format!("...{}", s.chars().skip(n - 29).collect::<String>())
     }
 }
 
