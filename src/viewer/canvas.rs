@@ -159,7 +159,7 @@ pub struct Brush {
 
 impl Default for Brush {
     fn default() -> Self {
-        Brush { color: [0.6, 0.25, 0.08], radius: 16.0, hardness: 0.7, opacity: 1.0, erase: false }
+        Brush { color: [0.95, 0.88, 0.75], radius: 16.0, hardness: 0.7, opacity: 1.0, erase: false }
     }
 }
 

@@ -20,9 +20,10 @@
 //! let mut session = PaintSession::new(Settings::default(), Mapping::Auto);
 //! let k = session.add_view(PaintView::standard(&mut renderer, "sphere", "front-left", 256)?);
 //! let all = session.views[k].object_pixels();
-//! session.views[k].canvas.fill(Brush::default(), &all);               // a base colour
+//! let base = Brush { color: [0.6, 0.25, 0.08], ..Brush::default() };
+//! session.views[k].canvas.fill(base, &all);                            // a base colour
 //! session.settle()?;                                                   // prepare once
-//! let mut highlight = Brush { color: [1.0; 3], radius: 10.0, ..Brush::default() };
+//! let highlight = Brush { color: [1.0; 3], radius: 10.0, ..Brush::default() };
 //! session.views[k].canvas.stroke(highlight, &[glam::Vec2::new(90.0, 80.0)]);
 //! session.refit()?;                                                    // a fraction of a millisecond
 //! let material = session.material().unwrap();

@@ -401,8 +401,8 @@ impl PaintSession {
 
     /// Starts a background prepare for the painted pixels of now, unless the system or the
     /// running prepare is already for them. Nothing painted: nothing to prepare.
-    fn ensure_prepare(&mut self) {
-        if self.system_is_current() {
+    fn ensure_prepare(&mut self, current: bool) {
+        if current {
             return;
         }
         if self.pending.is_some() {
@@ -440,8 +440,8 @@ impl PaintSession {
     /// prepare is still running). Errors leave the last material in place.
     pub fn refit(&mut self) -> Result<Option<Refit>> {
         self.poll()?;
-        self.ensure_prepare();
         let current = self.system_is_current();
+        self.ensure_prepare(current);
         let Some(system) = self.system.as_ref() else { return Ok(None) };
         let t0 = Instant::now();
         // Values of the prepared pattern; erased pixels get the model's prediction.
@@ -549,7 +549,7 @@ impl PaintSession {
             if self.system_is_current() {
                 break;
             }
-            self.ensure_prepare();
+            self.ensure_prepare(false);
             if self.pending.is_none() {
                 return Err(Error::input("nothing is painted: there are no samples"));
             }

@@ -882,13 +882,53 @@ impl Studio {
             }
         }
         let name = format!("{} · {}", short(self.model_name()), short(self.material_name()));
-        ui.painter_at(rect).text(
+        let painter = ui.painter_at(rect);
+        painter.text(
             rect.left_top() + Vec2::new(8.0, 6.0),
             egui::Align2::LEFT_TOP,
             name,
             egui::FontId::proportional(13.0),
             Color32::from_gray(200),
         );
+        // The live-painting budget, where the eye is: the last stroke's way to the screen.
+        if self.mode == Mode::Paint && self.timings.count > 0 {
+            let t = &self.timings;
+            let ok = t.total_ms <= 1000.0 / 60.0;
+            painter.text(
+                rect.left_top() + Vec2::new(8.0, 24.0),
+                egui::Align2::LEFT_TOP,
+                format!(
+                    "stroke -> frame {:.1} ms{}   (stroke {:.2}, samples {:.2}, solve {:.2}, upload {:.2}, frame {:.1}; {} samples)",
+                    t.total_ms,
+                    if ok { "" } else { " > 16.7" },
+                    t.stroke_ms,
+                    t.values_ms,
+                    t.solve_ms,
+                    t.upload_ms,
+                    t.frame_ms,
+                    t.samples
+                ),
+                egui::FontId::proportional(12.0),
+                if ok { Color32::from_rgb(120, 200, 130) } else { Color32::from_rgb(235, 140, 90) },
+            );
+        }
+        if let Some(e) = &self.error {
+            painter.text(
+                rect.left_bottom() + Vec2::new(8.0, -8.0),
+                egui::Align2::LEFT_BOTTOM,
+                e,
+                egui::FontId::proportional(13.0),
+                Color32::from_rgb(240, 110, 90),
+            );
+        } else if self.watcher.is_some() {
+            painter.text(
+                rect.left_bottom() + Vec2::new(8.0, -8.0),
+                egui::Align2::LEFT_BOTTOM,
+                &self.status,
+                egui::FontId::proportional(13.0),
+                Color32::from_gray(190),
+            );
+        }
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui, rect: Rect) {
