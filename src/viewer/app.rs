@@ -157,23 +157,32 @@ impl ApplicationHandler for App {
 
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
         let Some(r) = self.running.as_ref() else { return };
-        if r.exit_at.is_some_and(|t| Instant::now() >= t) {
-            event_loop.exit();
+        let now = Instant::now();
+        if let Some(t) = r.exit_at {
+            // Holding the finished window for an X screenshot: nothing more to draw.
+            if now >= t {
+                event_loop.exit();
+            } else {
+                event_loop.set_control_flow(ControlFlow::WaitUntil(t));
+            }
             return;
         }
-        let continuous = r.max_frames.is_some_and(|n| r.frames < n) || r.studio.busy() || r.exit_at.is_some();
-        if continuous {
+        if r.max_frames.is_some_and(|n| r.frames < n) || r.studio.busy() {
             r.window.request_redraw();
             event_loop.set_control_flow(ControlFlow::Poll);
             return;
         }
         let mut next = self.repaint_at.lock().map(|g| *g).unwrap_or(None);
-        if r.studio.watching() {
-            let poll = Instant::now() + Duration::from_millis(200);
-            next = Some(next.map_or(poll, |n| n.min(poll)));
+        // Look at a watched file five times a second, and for a background prepare's result
+        // fifty times (without spinning: the prepare needs the CPU).
+        for (on, every) in [(r.studio.watching(), 200), (r.studio.preparing(), 20)] {
+            if on {
+                let t = now + Duration::from_millis(every);
+                next = Some(next.map_or(t, |n| n.min(t)));
+            }
         }
         match next {
-            Some(t) if t <= Instant::now() => {
+            Some(t) if t <= now => {
                 r.window.request_redraw();
                 event_loop.set_control_flow(ControlFlow::Poll);
             }
@@ -334,11 +343,14 @@ impl Running {
             self.studio.gpu_model.light = light;
             self.last_camera = Some((camera, light));
             self.view3d.draw(&mut self.renderer, &self.studio.gpu_model, self.studio.shading.as_ref(), rect, h as i32)?;
+            // SAFETY: waits for the GPU, to split the frame time into the view and the panel.
+            unsafe { self.gl.finish() };
         }
+        let view_ms = start.elapsed().as_secs_f64() * 1e3;
         self.egui.paint(&self.window);
         // SAFETY: waits for the GPU, so the frame time is the real one.
         unsafe { self.gl.finish() };
-        self.studio.frame_done(start.elapsed().as_secs_f64() * 1e3);
+        self.studio.frame_done(start.elapsed().as_secs_f64() * 1e3, view_ms);
         self.frames += 1;
 
         let mut done = false;

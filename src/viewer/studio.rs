@@ -55,7 +55,10 @@ pub struct Timings {
     pub values_ms: f64,
     pub solve_ms: f64,
     pub upload_ms: f64,
+    /// The whole window frame: the 3D view and the egui panel, to `glFinish`.
     pub frame_ms: f64,
+    /// The 3D view's part of the frame.
+    pub view_ms: f64,
     pub total_ms: f64,
     /// Samples of the last refit.
     pub samples: usize,
@@ -323,7 +326,12 @@ impl Studio {
 
     /// Whether frames should keep coming without input.
     pub fn busy(&self) -> bool {
-        self.session.preparing() || self.refine_needed || self.canvas_changed
+        self.refine_needed || self.canvas_changed
+    }
+
+    /// Whether a prepare runs in the background (its result needs a frame when it lands).
+    pub fn preparing(&self) -> bool {
+        self.session.preparing()
     }
 
     pub fn watching(&self) -> bool {
@@ -389,13 +397,14 @@ impl Studio {
 
     /// Called with the measured frame time (draw + UI + finish). Completes the stroke → frame
     /// timing when this frame showed a refit.
-    pub fn frame_done(&mut self, frame_ms: f64) {
+    pub fn frame_done(&mut self, frame_ms: f64, view_ms: f64) {
         if let Some(r) = self.pending_refit.take() {
             let t = &mut self.timings;
             t.stroke_ms = self.stroke_ms;
             t.values_ms = r.values_ms;
             t.solve_ms = r.solve_ms;
             t.frame_ms = frame_ms;
+            t.view_ms = view_ms;
             t.total_ms = t.stroke_ms + t.values_ms + t.solve_ms + t.upload_ms + t.frame_ms;
             t.samples = r.samples;
             t.count += 1;
@@ -622,7 +631,8 @@ impl Studio {
                         ("samples", t.values_ms),
                         ("solve", t.solve_ms),
                         ("upload", t.upload_ms),
-                        ("frame", t.frame_ms),
+                        ("frame: 3D view", t.view_ms),
+                        ("frame: whole window", t.frame_ms),
                     ] {
                         ui.label(name);
                         ui.label(format!("{v:.2} ms"));
@@ -894,40 +904,34 @@ impl Studio {
         if self.mode == Mode::Paint && self.timings.count > 0 {
             let t = &self.timings;
             let ok = t.total_ms <= 1000.0 / 60.0;
-            painter.text(
-                rect.left_top() + Vec2::new(8.0, 24.0),
-                egui::Align2::LEFT_TOP,
-                format!(
-                    "stroke -> frame {:.1} ms{}   (stroke {:.2}, samples {:.2}, solve {:.2}, upload {:.2}, frame {:.1}; {} samples)",
-                    t.total_ms,
-                    if ok { "" } else { " > 16.7" },
-                    t.stroke_ms,
-                    t.values_ms,
-                    t.solve_ms,
-                    t.upload_ms,
-                    t.frame_ms,
-                    t.samples
-                ),
-                egui::FontId::proportional(12.0),
-                if ok { Color32::from_rgb(120, 200, 130) } else { Color32::from_rgb(235, 140, 90) },
+            let text = format!(
+                "stroke -> frame {:.1} ms{}\nstroke {:.2} · samples {:.2} · solve {:.2} · upload {:.2} · frame {:.1} (3D {:.1}) · {} samples",
+                t.total_ms,
+                if ok { "" } else { " (over 16.7)" },
+                t.stroke_ms,
+                t.values_ms,
+                t.solve_ms,
+                t.upload_ms,
+                t.frame_ms,
+                t.view_ms,
+                t.samples
             );
+            let colour = if ok { Color32::from_rgb(120, 200, 130) } else { Color32::from_rgb(235, 140, 90) };
+            let galley = painter.layout(text, egui::FontId::proportional(12.0), colour, rect.width() - 16.0);
+            painter.galley(rect.left_top() + Vec2::new(8.0, 24.0), galley, colour);
         }
-        if let Some(e) = &self.error {
-            painter.text(
-                rect.left_bottom() + Vec2::new(8.0, -8.0),
-                egui::Align2::LEFT_BOTTOM,
-                e,
-                egui::FontId::proportional(13.0),
-                Color32::from_rgb(240, 110, 90),
-            );
-        } else if self.watcher.is_some() {
-            painter.text(
-                rect.left_bottom() + Vec2::new(8.0, -8.0),
-                egui::Align2::LEFT_BOTTOM,
-                &self.status,
-                egui::FontId::proportional(13.0),
-                Color32::from_gray(190),
-            );
+        // Errors, and in watch mode what the last look at the file found, along the bottom.
+        let failed = self.watcher.as_ref().is_some_and(|w| matches!(w.status(), WatchStatus::Failed(_)));
+        let line = match (&self.error, &self.watcher) {
+            (Some(e), _) => Some((e.clone(), true)),
+            (None, Some(_)) => Some((self.status.clone(), failed)),
+            _ => None,
+        };
+        if let Some((text, bad)) = line {
+            let colour = if bad { Color32::from_rgb(240, 110, 90) } else { Color32::from_gray(190) };
+            let galley = painter.layout(text, egui::FontId::proportional(13.0), colour, rect.width() - 16.0);
+            let pos = rect.left_bottom() + Vec2::new(8.0, -8.0 - galley.size().y);
+            painter.galley(pos, galley, colour);
         }
     }
 
