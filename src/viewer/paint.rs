@@ -231,6 +231,9 @@ struct System {
     masks: Vec<Vec<u32>>,
     /// The canvases' mask versions when the masks were taken.
     versions: Vec<u64>,
+    /// Per view, per sample of the pattern: its pixel and the scale of its value, packed
+    /// so the per-stroke gather streams 32 bytes a sample instead of whole slots.
+    gather: Vec<Vec<(u32, [f64; 3])>>,
 }
 
 /// A prepare running on a background thread.
@@ -395,7 +398,20 @@ impl PaintSession {
             return Ok(()); // settings changed meanwhile: stale
         }
         let prepared = result?;
-        self.system = Some(System { prepared: Arc::new(prepared), masks: p.masks, versions: p.versions });
+        let gather = self
+            .views
+            .iter()
+            .zip(&p.masks)
+            .map(|(v, m)| {
+                m.iter()
+                    .map(|&s| {
+                        let slot = &v.slots[s as usize];
+                        (slot.pixel, slot.scale)
+                    })
+                    .collect()
+            })
+            .collect();
+        self.system = Some(System { prepared: Arc::new(prepared), masks: p.masks, versions: p.versions, gather });
         Ok(())
     }
 
@@ -447,12 +463,13 @@ impl PaintSession {
         // Values of the prepared pattern; erased pixels get the model's prediction.
         let mut values = Vec::with_capacity(system.prepared.samples());
         let mut erased = Vec::new();
-        for (v, mask) in self.views.iter().zip(&system.masks) {
+        for (v, gather) in self.views.iter().zip(&system.gather) {
             let pixels = &v.canvas.painting().pixels;
-            for &s in mask {
-                let slot = &v.slots[s as usize];
-                if pixels[slot.pixel as usize][3] > 0.0 {
-                    values.push(v.value(s as usize));
+            for &(pixel, scale) in gather {
+                let p = pixels[pixel as usize];
+                if p[3] > 0.0 {
+                    // Exactly `PaintView::value`, so a current system's solve is the one-go fit.
+                    values.push([p[0] as f64 * scale[0], p[1] as f64 * scale[1], p[2] as f64 * scale[2]]);
                 } else {
                     erased.push(values.len());
                     values.push([0.0; 3]);
