@@ -136,6 +136,10 @@ fn undo_and_redo_restore_the_exact_canvas_and_fit() {
         assert_eq!(session.views[k].canvas.painting(), want);
     }
     assert!(!session.views[k].canvas.undo(), "nothing left to undo");
+    // Nothing painted any more: the last material stays until something is.
+    let before = session.material().unwrap().clone();
+    assert_eq!(session.refit().unwrap(), None);
+    assert_eq!(session.material().unwrap(), &before);
     for want in states.iter().skip(1) {
         assert!(session.views[k].canvas.redo());
         assert_eq!(session.views[k].canvas.painting(), want);

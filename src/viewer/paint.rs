@@ -457,6 +457,10 @@ impl PaintSession {
     pub fn refit(&mut self) -> Result<Option<Refit>> {
         self.poll()?;
         let current = self.system_is_current();
+        if !current && self.views.iter().all(|v| v.canvas.painting().painted() == 0) {
+            // Everything was erased: keep the last material until something is painted.
+            return Ok(None);
+        }
         self.ensure_prepare(current);
         let Some(system) = self.system.as_ref() else { return Ok(None) };
         let t0 = Instant::now();

@@ -43,7 +43,8 @@ pub fn slots(g: &GBuffer, light_rgb: Vec3) -> Vec<Slot> {
             }
             let Some(query) = p.query() else { continue };
             let e = light_rgb * p.falloff;
-            if !(e.min_element() > 0.0) || !e.is_finite() {
+            // NaN fails the test too (a light of non-finite colour is no light).
+            if !e.is_finite() || e.min_element() <= 0.0 {
                 continue;
             }
             let scale = [1.0 / e.x as f64, 1.0 / e.y as f64, 1.0 / e.z as f64];
