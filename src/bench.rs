@@ -177,3 +177,118 @@ pub fn table(cases: &[Case]) -> String {
     }
     out
 }
+
+/// Frame sizes of the GL cases.
+const GL_SIZES: [usize; 2] = [512, 1024];
+
+/// The GL cases: frame time of the factored shader against the analytic GGX shader, the
+/// same mesh (the bunny, front-left preset) and image size, measured side by side in one
+/// run by [`crate::render::Renderer::bench`] (frames interleaved, medians, `glFinish` per
+/// frame). The factored materials are real fits of the GGX model the analytic shader
+/// draws, painted on a sphere view: three 1D factors (M = 128) and three 2D factors
+/// (M = 32), the defaults. `time_s` is the factored frame, `ratio` factored / analytic;
+/// `res` is the factor resolution, `samples` the fitted samples. Also returns the GL
+/// renderer's name. `quick` takes a few frames per case instead of dozens.
+pub fn gl_cases(quick: bool) -> Result<(Vec<Case>, String)> {
+    use crate::factor::Mapping;
+    use crate::gl::HeadlessContext;
+    use crate::render::{Ggx, GpuScene, Renderer, Shading, Term};
+    use crate::scene::Scene;
+
+    let ggx = Ggx::default();
+    let model = Analytic::Ggx {
+        diffuse: ggx.diffuse.as_dvec3().to_array(),
+        f0: ggx.f0.as_dvec3().to_array(),
+        roughness: ggx.roughness as f64,
+    };
+    let pattern = sphere_pattern(7884);
+    let values = pattern.shade(|l, v| model.shading(l, v));
+    let ctx = HeadlessContext::new()?;
+    let mut renderer = Renderer::new(ctx.gl())?;
+    let scene = GpuScene::upload(ctx.gl(), &Scene::from_preset("bunny", "front-left")?)?;
+    let mut out = Vec::new();
+    for (name, dim, res) in [("3x1D", 1, crate::factor::defaults::RES_1D), ("3x2D", 2, crate::factor::defaults::RES_2D)] {
+        let settings = Settings::uniform(dim, res);
+        let fit = prepare(&pattern, &settings)?.solve(&values, Mapping::Auto)?;
+        let shading = renderer.upload(&Shading::uniform(Term::from_fit(&settings, &fit)))?;
+        for size in GL_SIZES {
+            let frames = match (quick, size) {
+                (true, 512) => 6,
+                (true, _) => 3,
+                (false, 512) => 60,
+                (false, _) => 30,
+            };
+            let t = renderer.bench(&scene, &shading, &ggx, size, size, frames)?;
+            out.push(Case {
+                case: format!("gl factored {name} M={res} vs GGX, bunny {size}x{size}"),
+                samples: Some(pattern.len()),
+                res: Some(res),
+                terms: Some(1),
+                time_s: Some(t.factored_ms * 1e-3),
+                ratio: Some(t.ratio),
+                ..Default::default()
+            });
+        }
+    }
+    Ok((out, ctx.renderer().to_string()))
+}
+
+/// A human-readable table of GL cases: factored and analytic frame times and their ratio.
+pub fn gl_table(cases: &[Case]) -> String {
+    let mut out = format!("{:<46} {:>12} {:>12} {:>7}\n", "case", "factored ms", "analytic ms", "ratio");
+    for c in cases {
+        let (t, r) = (c.time_s.unwrap_or(f64::NAN), c.ratio.unwrap_or(f64::NAN));
+        out += &format!("{:<46} {:>12.2} {:>12.2} {:>7.2}\n", c.case, t * 1e3, t / r * 1e3, r);
+    }
+    out
+}
+
+/// Thesis Table 5.3: material maps with J ∈ {5, 10, 15, 20} terms at factor resolution 32
+/// and 128, ~7.9k samples. The painting is a sphere with a glossy and a matte BRDF in
+/// stripes of u (so every term has something left to fit); the system is prepared once and
+/// each term costs a solve, a prediction and a 256² coefficient texture. Fitting runs all J
+/// terms (no early stop). `time_s` is the whole fit after the prepare; the thesis's seconds
+/// are beside it.
+pub fn material_map_cases(quick: bool) -> Result<Vec<Case>> {
+    use crate::material::map::{self, Grid, MapOptions};
+    let res = 102;
+    let view = SphereView::new(glam::DVec3::new(-0.5, 0.5, 1.0), res);
+    let pixels = view.pixels();
+    let mut grid = Grid { width: res, height: res, sample: vec![None; res * res] };
+    for (k, p) in pixels.iter().enumerate() {
+        grid.sample[p.pixel[1] * res + p.pixel[0]] = Some(k as u32);
+    }
+    let pattern = view.pattern();
+    let glossy = Analytic::BlinnPhong { diffuse: [0.10, 0.08, 0.05], specular: [0.5, 0.5, 0.5], exponent: 40.0 };
+    let matte = Analytic::Lambert { albedo: [0.55, 0.35, 0.15] };
+    let values: Vec<[f64; 3]> = pattern
+        .queries
+        .iter()
+        .map(|q| if (q.uv.x * 8.0).floor() as i64 % 2 == 0 { &glossy } else { &matte }.shading(q.l, q.v))
+        .collect();
+    let thesis = [(32, [2.44, 5.73, 8.91, 12.09]), (128, [3.96, 8.66, 12.64, 17.79])];
+    let mut out = Vec::new();
+    for (factor_res, seconds) in thesis {
+        let prepared = prepare(&pattern, &Settings::uniform(1, factor_res))?;
+        for (terms, thesis_s) in [5, 10, 15, 20].into_iter().zip(seconds) {
+            let opts = MapOptions { terms, min_gain: 0.0, ..Default::default() };
+            let mut result = Ok(());
+            let time_s = median_time(if quick { 1 } else { 3 }, 0.0, || {
+                if let Err(e) = map::fit(&prepared, &pattern, &values, std::slice::from_ref(&grid), &opts) {
+                    result = Err(e);
+                }
+            });
+            result?;
+            out.push(Case {
+                case: format!("table5.3 material map J={terms} M={factor_res}"),
+                samples: Some(pattern.len()),
+                res: Some(factor_res),
+                terms: Some(terms),
+                time_s: Some(time_s),
+                thesis_s: Some(thesis_s),
+                ..Default::default()
+            });
+        }
+    }
+    Ok(out)
+}

@@ -41,6 +41,7 @@ pub mod gl;
 pub mod images;
 pub mod material;
 pub mod render;
+pub mod sample;
 pub mod scene;
 pub mod util;
 pub mod viewer;

@@ -76,9 +76,22 @@ fn bench_json_has_the_documented_fields() {
     let (code, stdout, stderr) = brdfpaint(&["bench", "--json", "--quick"]);
     assert_eq!(code, 0, "{stderr}");
     let cases: Vec<serde_json::Value> = serde_json::from_str(&stdout).expect("one JSON array");
-    // Table 5.1: 4 resolutions x (3-factor, 4-factor); Table 5.2: 2 x 3 sample counts + 4.
-    assert_eq!(cases.len(), 18);
-    for c in &cases {
+    // Table 5.1: 4 resolutions x (3-factor, 4-factor); Table 5.2: 2 x 3 sample counts + 4;
+    // Table 5.3: 4 term counts x 2 resolutions; GL: factored (1D, 2D) against GGX at 512²
+    // and 1024².
+    assert_eq!(cases.len(), 30);
+    let name = |c: &&serde_json::Value| c["case"].as_str().unwrap().to_string();
+    let (maps, rest): (Vec<_>, Vec<_>) = cases.iter().partition(|c| name(c).starts_with("table5.3"));
+    let (factor, gl): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("table"));
+    assert_eq!(gl.len(), 4);
+    assert_eq!(maps.len(), 8);
+    for c in &maps {
+        assert!(c["terms"].as_u64().unwrap() >= 5 && c["time_s"].as_f64().unwrap() > 0.0, "{c}");
+    }
+    for c in &gl {
+        assert!(c["time_s"].as_f64().unwrap() > 0.0 && c["ratio"].as_f64().unwrap() > 0.0, "{c}");
+    }
+    for c in &factor {
         for field in ["case", "samples", "res", "unknowns", "prepare_s", "solve_s"] {
             assert!(c.get(field).is_some(), "{field} missing in {c}");
         }

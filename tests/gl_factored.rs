@@ -86,41 +86,34 @@ fn scenes() -> Vec<(String, Scene, usize, usize)> {
 /// need ~4e-3 (1/256 of a node step).
 const TABLE_TOL: f64 = 1e-4;
 
-#[test]
-fn one_d_factors_match_the_cpu_tables_in_both_domains() {
-    let shading = Shading::uniform(Term {
-        factors: vec![
-            random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 33), 1),
-            random_factor(spec(Input::Half, Param::Radius, Domain::Sphere, 64), 2),
-            random_factor(spec(Input::View, Param::Radius, Domain::Hemisphere, 17), 3),
-        ],
-        map: identity(),
-        coefficients: None,
-    });
+/// Render one identity-mapped product of `factors` in every test scene and compare it with
+/// the CPU tables at the G-buffer's queries.
+fn assert_tables_match(label: &str, factors: Vec<FactorTexture>) {
+    let shading = Shading::uniform(Term { factors, map: identity(), coefficients: None });
     for (name, scene, w, h) in scenes() {
         let (worst, n) = compare_at_gbuffer(&scene, &shading, w, h);
-        eprintln!("1D {name}: {n} pixels, worst relative error {worst:.2e}");
-        assert!(n > 2000 && worst < TABLE_TOL, "{name}");
+        eprintln!("{label} {name}: {n} pixels, worst relative error {worst:.2e}");
+        assert!(n > 2000 && worst < TABLE_TOL, "{label} {name}");
     }
 }
 
 #[test]
+fn one_d_factors_match_the_cpu_tables_in_both_domains() {
+    assert_tables_match("1D", vec![
+            random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 33), 1),
+            random_factor(spec(Input::Half, Param::Radius, Domain::Sphere, 64), 2),
+            random_factor(spec(Input::View, Param::Radius, Domain::Hemisphere, 17), 3),
+        ]);
+}
+
+#[test]
 fn two_d_factors_match_the_cpu_tables() {
-    let shading = Shading::uniform(Term {
-        factors: vec![
+    assert_tables_match("2D", vec![
             random_factor(spec(Input::Light, Param::Parabolic, Domain::Sphere, 16), 4),
             random_factor(spec(Input::Half, Param::Hemispherical, Domain::Hemisphere, 24), 5),
             random_factor(spec(Input::View, Param::Parabolic, Domain::Hemisphere, 8), 6),
             random_factor(spec(Input::Uv, Param::Uv, Domain::Hemisphere, 32), 7),
-        ],
-        map: identity(),
-        coefficients: None,
-    });
-    for (name, scene, w, h) in scenes() {
-        let (worst, n) = compare_at_gbuffer(&scene, &shading, w, h);
-        eprintln!("2D {name}: {n} pixels, worst relative error {worst:.2e}");
-        assert!(n > 2000 && worst < TABLE_TOL, "{name}");
-    }
+        ]);
 }
 
 #[test]

@@ -7,7 +7,8 @@ use brdfpaint::gl::HeadlessContext;
 use brdfpaint::material::Material;
 use brdfpaint::render::Renderer;
 use brdfpaint::scene::Scene;
-use brdfpaint::viewer::canvas::{Brush, Painting};
+use brdfpaint::sample::{PaintedView, Samples, SceneSampler, Erosion};
+use brdfpaint::viewer::canvas::{blank, Brush};
 use brdfpaint::viewer::paint::{fit_views, measure_stroke_to_frame, PaintSession, PaintView};
 use brdfpaint::viewer::watch::{WatchStatus, Watcher};
 use glam::Vec2;
@@ -76,23 +77,31 @@ fn scripted_strokes_end_in_the_fit_of_the_final_paintings() {
     assert_eq!(refits, 12);
     let live_fit: Fit = session.fit().unwrap().clone();
 
-    // The final paintings, written to disk and read back into fresh views, fitted in one go.
-    let dir = tempfile::tempdir().unwrap();
-    let mut fresh = Vec::new();
-    for (k, preset) in [(a, "front-left"), (b, "side")] {
-        let path = dir.path().join(format!("{preset}.exr"));
-        session.views[k].canvas.painting().write(&path).unwrap();
-        let mut v = PaintView::standard(&mut renderer, "sphere", preset, SIZE).unwrap();
-        v.canvas.set_painting(&Painting::read(&path).unwrap()).unwrap();
-        fresh.push(v);
-    }
-    let views: Vec<&PaintView> = fresh.iter().collect();
-    let (once, material) = fit_views(&views, &Settings::default(), Mapping::Auto).unwrap();
+    // The final paintings fitted in one go the way `brdfpaint fit --scene --image` does:
+    // the library's sampler (geometry of each scene, Samples::gather) and sample::fit.
+    let mut sampler = SceneSampler::new().unwrap();
+    let painted: Vec<PaintedView> = [a, b]
+        .iter()
+        .map(|&k| {
+            let v = &session.views[k];
+            PaintedView {
+                name: v.name.clone(),
+                source: "sphere".into(),
+                geometry: sampler.geometry(&v.scene, SIZE, SIZE, Erosion::default()).unwrap(),
+                painting: v.canvas.painting().clone(),
+            }
+        })
+        .collect();
+    let samples = Samples::gather(&painted).unwrap();
+    assert_eq!(samples.len(), live.samples, "the same samples");
+    let once = brdfpaint::sample::fit(&samples, &Settings::default(), Mapping::Auto, None).unwrap().fit;
     assert_eq!(once.map, live_fit.map, "the same mapping wins");
-    assert_tables_close(&live_fit.tables, &once.tables, "live vs one go");
-    assert_eq!(material.provenance.samples, live.samples);
-    let live_material = session.material().unwrap();
-    assert_eq!(live_material.terms[0].factors, material.terms[0].factors);
+    assert_tables_close(&live_fit.tables, &once.tables, "live vs the fit command's path");
+    // And the viewer's own one-go fit agrees.
+    let views: Vec<&PaintView> = session.views.iter().collect();
+    let (mine, material) = fit_views(&views, &Settings::default(), Mapping::Auto).unwrap();
+    assert_tables_close(&mine.tables, &once.tables, "fit_views vs the fit command's path");
+    assert_eq!(session.material().unwrap().terms[0].factors, material.terms[0].factors);
 
     // After settling, a stroke over paint that is already there refits through the same
     // prepared system, exactly.
@@ -199,18 +208,18 @@ fn watch_mode_refits_a_rewritten_file_and_survives_a_truncated_one() {
     let bytes = std::fs::read(&painting).unwrap();
     std::fs::write(&painting, &bytes[..bytes.len() / 3]).unwrap();
     match watcher.check(&mut session) {
-        Some(WatchStatus::Failed(e)) => assert!(e.contains("painting.png") && e.contains("decode"), "{e}"),
+        Some(WatchStatus::Failed(e)) => assert!(e.contains("painting.png") && e.contains("truncated"), "{e}"),
         other => panic!("a truncated file must fail: {other:?}"),
     }
     assert_eq!(session.material().unwrap().terms, second.terms, "the last good material stays");
     // Garbage, an empty file, a wrong size: the same.
     std::fs::write(&painting, b"").unwrap();
     assert!(matches!(watcher.check(&mut session), Some(WatchStatus::Failed(e)) if e.contains("empty")));
-    Painting::new(40, 40).unwrap().write(&painting).unwrap();
+    blank(40, 40).unwrap().write(&painting).unwrap();
     assert!(matches!(watcher.check(&mut session), Some(WatchStatus::Failed(e)) if e.contains("40x40")));
     assert_eq!(session.material().unwrap().terms, second.terms);
     // A fully transparent painting has no samples: an error, the material stays.
-    Painting::new(80, 80).unwrap().write(&painting).unwrap();
+    blank(80, 80).unwrap().write(&painting).unwrap();
     assert!(matches!(watcher.check(&mut session), Some(WatchStatus::Failed(e)) if e.contains("no samples")));
     assert_eq!(session.material().unwrap().terms, second.terms);
 

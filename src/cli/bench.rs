@@ -3,12 +3,29 @@
 use crate::error::{Error, Result};
 
 pub(super) fn run(json: bool, quick: bool) -> Result<()> {
-    let cases = crate::bench::factor_cases(quick)?;
+    let mut cases = crate::bench::factor_cases(quick)?;
+    cases.extend(crate::bench::material_map_cases(quick)?);
+    // The GL cases need an EGL device; without one the factorization tables still stand.
+    let gl = match crate::bench::gl_cases(quick) {
+        Ok(gl) => Some(gl),
+        Err(e) => {
+            eprintln!("warning: GL frame-time cases skipped: {e}");
+            None
+        }
+    };
     if json {
+        if let Some((gl_cases, _)) = &gl {
+            cases.extend(gl_cases.iter().cloned());
+        }
         println!("{}", serde_json::to_string_pretty(&cases).map_err(|e| Error::input(e.to_string()))?);
     } else {
         print!("{}", crate::bench::table(&cases));
         println!("solve: one RGB refit (log mapping, solve, tables). Thesis: P4 2003, SVD pre-inversion and its fast factorization.");
+        if let Some((gl_cases, device)) = &gl {
+            println!();
+            print!("{}", crate::bench::gl_table(gl_cases));
+            println!("median frame times (clear, draw, glFinish), factored and GGX interleaved, on {device}");
+        }
     }
     Ok(())
 }

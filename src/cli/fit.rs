@@ -1,14 +1,17 @@
-//! `brdfpaint fit`: samples in, material out.
+//! `brdfpaint fit`: samples in, material out. Two sources: paintings of scenes
+//! (`--scene S --image P`, repeatable: thesis 4.1, 4.4) and measured MERL data (`--merl`).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::ValueEnum;
 
 use crate::brdf::Merl;
 use crate::error::{Error, Result};
+use crate::factor::cache::{Cache, Outcome};
 use crate::factor::{prepare, Mapping, Pattern, Settings};
 use crate::material::{Material, Provenance};
+use crate::sample::{self, check_same_model, report, Erosion, Neighbours, Samples, SceneSampler};
 
 #[derive(Clone, Copy, ValueEnum)]
 pub(super) enum FactorDim {
@@ -18,26 +21,57 @@ pub(super) enum FactorDim {
     Two,
 }
 
+/// Material kinds (DESIGN.md). Only `uniform` is fitted so far.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(super) enum KindArg {
+    Uniform,
+    FourFactor,
+    MaterialMap,
+    Hybrid,
+}
+
 #[derive(clap::Args)]
+#[command(group = clap::ArgGroup::new("source").required(true).multiple(true).args(["merl", "scene"]))]
 pub(super) struct FitArgs {
+    /// A scene (glTF: meshes, camera, light) a painting was made in; repeat with --image
+    /// for several views (paired in order).
+    #[arg(long, value_name = "S.gltf", conflicts_with = "merl", requires = "image")]
+    scene: Vec<PathBuf>,
+    /// The painting (PNG, JPEG: sRGB; EXR: linear) of the preceding --scene; alpha 0 is
+    /// "not painted".
+    #[arg(long, value_name = "P.png", requires = "scene")]
+    image: Vec<PathBuf>,
     /// A measured BRDF in the MERL binary format.
     #[arg(long, value_name = "F.binary")]
-    merl: PathBuf,
-    /// Output material directory.
+    merl: Option<PathBuf>,
+    /// Output material directory (with report.png for paintings).
     #[arg(long, value_name = "MAT")]
     out: PathBuf,
+    /// Material kind. Only uniform is available yet.
+    #[arg(long, value_enum, default_value = "uniform")]
+    kind: KindArg,
     /// Factor tables: 1D isotropic (radius) or 2D (parabolic).
     #[arg(long, value_enum, default_value = "1d")]
     factors: FactorDim,
     /// Table resolution per axis (default: 128 for 1D, 32 for 2D).
     #[arg(long)]
     res: Option<usize>,
+    /// Resolution of the uv factor (four-factor and hybrid kinds).
+    #[arg(long)]
+    uv_res: Option<usize>,
+    /// Number of terms (material-map and hybrid kinds).
+    #[arg(long)]
+    terms: Option<usize>,
     /// Laplacian smoothing weight of every factor (default: 1e-5 for 1D, 1e-4 for 2D).
     #[arg(long)]
     lambda: Option<f64>,
     /// Log mapping: auto, identity, offset[:A], inverted[:A].
     #[arg(long, default_value = "auto")]
     mapping: Mapping,
+    /// Pixels removed along the silhouette: a pixel within N steps (8-neighbourhood) of the
+    /// background is not a sample.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    erode: usize,
     /// MERL sampling density k: 2k³ (light, view) pairs.
     #[arg(long, default_value_t = 16)]
     density: usize,
@@ -61,27 +95,68 @@ pub(super) fn settings(dim: FactorDim, res: Option<usize>, lambda: Option<f64>) 
 }
 
 pub(super) fn run(args: FitArgs) -> Result<()> {
+    let kind = match args.kind {
+        KindArg::Uniform => None,
+        KindArg::FourFactor => Some("four-factor"),
+        KindArg::MaterialMap => Some("material-map"),
+        KindArg::Hybrid => Some("hybrid"),
+    };
+    if let Some(k) = kind {
+        return Err(Error::input(format!("--kind {k} is not available yet; only --kind uniform can be fitted")));
+    }
+    if args.uv_res.is_some() || args.terms.is_some() {
+        return Err(Error::input(
+            "--uv-res and --terms apply to the four-factor, material-map and hybrid kinds, which are not available yet",
+        ));
+    }
     let settings = settings(args.factors, args.res, args.lambda)?;
-    let merl = Merl::read(&args.merl)?;
+    if args.erode > 64 {
+        return Err(Error::input(format!("--erode {} is more than the 64 pixels allowed", args.erode)));
+    }
+    match &args.merl {
+        Some(merl) => run_merl(merl, &args, &settings),
+        None => {
+            if args.scene.len() != args.image.len() {
+                clap::Error::raw(
+                    clap::error::ErrorKind::WrongNumberOfValues,
+                    format!(
+                        "{} --scene and {} --image: give one --image after each --scene\n",
+                        args.scene.len(),
+                        args.image.len()
+                    ),
+                )
+                .exit();
+            }
+            run_paintings(&args, &settings)
+        }
+    }
+}
+
+fn save(material: &Material, out: &Path) -> Result<()> {
+    material.save(out).map_err(|e| match e {
+        Error::Io { .. } | Error::Format { .. } => e,
+        other => Error::input(format!("{}: {other}", out.display())),
+    })
+}
+
+fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()> {
+    let merl = Merl::read(merl_path)?;
     let samples = merl.samples(args.density)?;
     let (pattern, values): (Pattern, _) = Pattern::from_samples(&samples)?;
-    let prepared = prepare(&pattern, &settings)?;
+    let prepared = prepare(&pattern, settings)?;
     let start = Instant::now();
     let fit = prepared.solve(&values, args.mapping)?;
     let solve_s = start.elapsed().as_secs_f64();
     let provenance = Provenance {
         tool: format!("brdfpaint {}", env!("CARGO_PKG_VERSION")),
-        sources: vec![args.merl.display().to_string()],
+        sources: vec![merl_path.display().to_string()],
         errors: Some(fit.errors),
         samples: pattern.len(),
         prepare_s: prepared.prepare_s,
         solve_s,
     };
-    let material = Material::from_fit(&settings, &fit, provenance)?;
-    material.save(&args.out).map_err(|e| match e {
-        Error::Io { .. } | Error::Format { .. } => e,
-        other => Error::input(format!("{}: {other}", args.out.display())),
-    })?;
+    let material = Material::from_fit(settings, &fit, provenance)?;
+    save(&material, &args.out)?;
     println!(
         "{} samples, {} unknowns: prepare {:.1} ms ({}), solve {:.2} ms",
         pattern.len(),
@@ -97,3 +172,84 @@ pub(super) fn run(args: FitArgs) -> Result<()> {
     Ok(())
 }
 
+/// Paintings of scenes: sample every view, check they agree, fit through the prepare
+/// cache, write the material and its report. Nothing is written unless everything
+/// succeeds up to the save.
+fn run_paintings(args: &FitArgs, settings: &Settings) -> Result<()> {
+    let erosion = Erosion { radius: args.erode, neighbours: Neighbours::Eight };
+    let mut sampler = SceneSampler::new()?;
+    let mut views = Vec::new();
+    let mut first: Option<crate::scene::Scene> = None;
+    for (scene_path, image_path) in args.scene.iter().zip(&args.image) {
+        let (scene, view) = sampler.load_view(scene_path, image_path, erosion)?;
+        match &first {
+            None => first = Some(scene),
+            Some(f) => check_same_model(f, &args.scene[0].display().to_string(), &scene, &scene_path.display().to_string())?,
+        }
+        views.push(view);
+    }
+    let samples = Samples::gather(&views)?;
+    let cache = Cache::user();
+    let fitted = sample::fit(&samples, settings, args.mapping, cache.as_ref())?;
+    let fit = &fitted.fit;
+    let mut sources = Vec::new();
+    for (s, i) in args.scene.iter().zip(&args.image) {
+        sources.push(s.display().to_string());
+        sources.push(i.display().to_string());
+    }
+    let provenance = Provenance {
+        tool: format!("brdfpaint {}", env!("CARGO_PKG_VERSION")),
+        sources,
+        errors: Some(fit.errors),
+        samples: samples.len(),
+        prepare_s: fitted.prepare_s,
+        solve_s: fitted.solve_s,
+    };
+    let material = Material::from_fit(settings, fit, provenance)?;
+    let per_view = report::view_errors(&samples, &views, &material);
+    let image = report::image(&views, &material)?;
+    save(&material, &args.out)?;
+    let report_path = args.out.join("report.png");
+    image.write_png(&report_path)?;
+
+    for (k, (view, e)) in views.iter().zip(&per_view).enumerate() {
+        println!(
+            "view {}: {} in {}: {} samples; RMS {:.5}  relative {:.4}  max {:.4}",
+            k + 1,
+            view.name,
+            view.source,
+            samples.per_view[k],
+            e.rms,
+            e.rms_relative,
+            e.max
+        );
+    }
+    let cache_note = match &fitted.outcome {
+        Outcome::Hit => "cache hit".to_string(),
+        Outcome::Miss => "cache miss, stored".to_string(),
+        Outcome::Rebuilt(why) => format!("cache file rebuilt ({why})"),
+        Outcome::Uncached(why) => format!("not cached: {why}"),
+    };
+    println!(
+        "{} samples, {} unknowns: prepare {:.1} ms ({}, {}), solve {:.2} ms",
+        samples.len(),
+        fitted.prepared.unknowns(),
+        fitted.prepare_s * 1e3,
+        fitted.prepared.solver_kind(),
+        cache_note,
+        fitted.solve_s * 1e3
+    );
+    for (map, e) in &fit.tried {
+        println!("  mapping {:<8} RMS {:.5}  relative {:.4}  max {:.4}", map.name(), e.rms, e.rms_relative, e.max);
+    }
+    println!(
+        "kept {}: RMS {:.5}  relative {:.4}  max {:.4}; wrote {} and {}",
+        fit.map.name(),
+        fit.errors.rms,
+        fit.errors.rms_relative,
+        fit.errors.max,
+        args.out.display(),
+        report_path.display()
+    );
+    Ok(())
+}

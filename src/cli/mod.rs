@@ -3,6 +3,8 @@
 
 mod bench;
 mod fit;
+mod render;
+mod sheet;
 mod view;
 
 use std::process::ExitCode;
@@ -18,11 +20,15 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Fit a material to measured data.
-    Fit(fit::FitArgs),
+    /// Fit a material to paintings of scenes, or to measured data.
+    Fit(Box<fit::FitArgs>),
+    /// Render a material on a scene, headless, to PNG or EXR (or a turntable / light sweep).
+    Render(render::RenderArgs),
+    /// Write the coloring-book sheet to paint on: outline.png, reference.png, mask.png, scene.gltf.
+    Sheet(sheet::SheetArgs),
     /// The real-time window: a material on a model, live painting, watch mode.
-    View(view::ViewArgs),
-    /// Reproduce the thesis's timing tables (5.1, 5.2) on this machine.
+    View(Box<view::ViewArgs>),
+    /// Reproduce the thesis's timing tables (5.1, 5.2) and time the GL shaders on this machine.
     Bench {
         /// Print one JSON array of cases instead of a table.
         #[arg(long)]
@@ -47,9 +53,11 @@ pub fn run() -> ExitCode {
         }
     };
     let result = match cli.command {
-        Command::Fit(args) => fit::run(args),
+        Command::Fit(args) => fit::run(*args),
+        Command::Render(args) => render::run(args),
+        Command::Sheet(args) => sheet::run(args),
         Command::Bench { json, quick } => bench::run(json, quick),
-        Command::View(args) => view::run(args),
+        Command::View(args) => view::run(*args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -117,9 +117,11 @@ pub struct HeadlessContext {
 }
 
 impl HeadlessContext {
-    /// A context on the software device (llvmpipe), so results agree everywhere.
+    /// A context on the software device (llvmpipe), so results agree everywhere, unless the
+    /// environment says `BRDFPAINT_GL_DEVICE=hardware` (how the GL tests are run on a GPU).
     pub fn new() -> Result<Self> {
-        Self::with_preference(DevicePreference::Software)
+        let hardware = std::env::var("BRDFPAINT_GL_DEVICE").is_ok_and(|v| v.eq_ignore_ascii_case("hardware"));
+        Self::with_preference(if hardware { DevicePreference::Hardware } else { DevicePreference::Software })
     }
 
     /// A context on a hardware device when there is one, else on the software device.

@@ -9,6 +9,7 @@
 //! values in `f32`, exactly as the shader samples them, so the CPU evaluation here is the
 //! reference the GL renderer is tested against.
 
+pub mod map;
 mod store;
 
 use serde::{Deserialize, Serialize};
@@ -41,12 +42,14 @@ pub struct Factor {
     pub texels: Vec<[f32; 3]>,
 }
 
-/// A coefficient texture over the surface's uv, bilinearly interpolated, nodes at the texel
-/// centres' positions $t_i = i/(M-1)$ like every table.
+/// A coefficient texture over the surface's uv, bilinearly interpolated, nodes at
+/// $t_i = i/(M-1)$ like every table. One coefficient per colour channel: the thesis's scalar
+/// $c_j(u, v)$ (eq. 4.1) generalized, so a term fitted to a mixture of colours is not scaled
+/// down to its worst channel everywhere.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Coefficients {
     pub res: usize,
-    pub texels: Vec<f32>,
+    pub texels: Vec<[f32; 3]>,
 }
 
 /// A product of factors under a log mapping, optionally weighted over the surface.
@@ -102,10 +105,21 @@ impl Factor {
 }
 
 impl Coefficients {
-    /// Bilinearly interpolated coefficient at texture coordinates.
-    pub fn lookup(&self, uv: glam::DVec2) -> f64 {
+    /// The same coefficient in every channel.
+    pub fn grey(res: usize, values: &[f32]) -> Coefficients {
+        Coefficients { res, texels: values.iter().map(|&c| [c; 3]).collect() }
+    }
+
+    /// Bilinearly interpolated coefficients at texture coordinates.
+    pub fn lookup(&self, uv: glam::DVec2) -> [f64; 3] {
         let t = crate::factor::param::uv_forward(uv);
-        stencil_2d([t.x, t.y], self.res).iter().map(|(i, w)| w * self.texels[i] as f64).sum()
+        let mut sum = [0.0; 3];
+        for (i, w) in stencil_2d([t.x, t.y], self.res).iter() {
+            for c in 0..3 {
+                sum[c] += w * self.texels[i][c] as f64;
+            }
+        }
+        sum
     }
 }
 
@@ -145,10 +159,10 @@ impl Material {
     pub fn eval(&self, q: &Query) -> [f64; 3] {
         let mut sum = [0.0; 3];
         for term in &self.terms {
-            let w = term.coefficients.as_ref().map_or(1.0, |c| c.lookup(q.uv));
+            let w = term.coefficients.as_ref().map_or([1.0; 3], |c| c.lookup(q.uv));
             let x = term.eval(q);
             for c in 0..3 {
-                sum[c] += w * x[c];
+                sum[c] += w[c] * x[c];
             }
         }
         sum

@@ -4,7 +4,7 @@
 //! A 1D table of M nodes is an M×1 image, a 2D table M×M with row $y$ of the table as image
 //! row $y$; node $i$ sits at table coordinate $i/(M-1)$, so a GL sampler with linear
 //! filtering reads it at texel coordinate $(t(M-1) + 0.5)/M$. Values are linear.
-//! Coefficient textures store the coefficient in all three channels.
+//! Coefficient textures hold one coefficient per colour channel.
 //!
 //! Saving is atomic: everything is written into a temporary sibling directory that is then
 //! renamed into place, so a failed save leaves the previous material untouched.
@@ -87,7 +87,7 @@ impl Material {
             let coefficients = match &term.coefficients {
                 Some(c) => {
                     let texture = format!("term{k}-coefficients.exr");
-                    let pixels = c.texels.iter().map(|&x| [x; 3]).collect();
+                    let pixels = c.texels.clone();
                     Rgb { width: c.res, height: c.res, pixels }.write_exr(&dir.join(&texture))?;
                     Some(FileCoefficients { res: c.res, texture })
                 }
@@ -156,7 +156,7 @@ impl Material {
                             format!("coefficient texture is {}x{} but should be {}x{}", img.width, img.height, c.res, c.res),
                         ));
                     }
-                    Some(Coefficients { res: c.res, texels: img.pixels.iter().map(|p| p[0]).collect() })
+                    Some(Coefficients { res: c.res, texels: img.pixels })
                 }
                 None => None,
             };
@@ -192,8 +192,11 @@ impl Material {
                 return bad(format!("term {k}: mapping constant is not finite"));
             }
             if let Some(c) = &t.coefficients {
-                if c.res < 2 || c.res > crate::factor::MAX_RES_2D || c.texels.len() != c.res * c.res {
+                if c.res < 2 || c.res > super::map::MAX_COEF_RES || c.texels.len() != c.res * c.res {
                     return bad(format!("term {k}: coefficient texture of {} texels at resolution {}", c.texels.len(), c.res));
+                }
+                if c.texels.iter().flatten().any(|x| !x.is_finite() || *x < 0.0) {
+                    return bad(format!("term {k}: coefficient texture has negative or non-finite values"));
                 }
             }
         }

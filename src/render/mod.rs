@@ -31,8 +31,11 @@
 
 mod camera;
 mod gbuffer;
+mod material;
 pub mod mesh;
+pub mod orbit;
 mod shading;
+pub mod sheet;
 
 use std::collections::HashMap;
 use std::time::Instant;
@@ -43,7 +46,9 @@ use glow::HasContext;
 pub use camera::{LightUniforms, View};
 pub use gbuffer::{GBuffer, GPixel, OutlineStyle};
 pub use mesh::Mesh;
+pub use orbit::Orbit;
 pub use shading::{CoefTexture, FactorTexture, GpuShading, Shading, Term, MAX_FACTORS, MAX_TERMS};
+pub use sheet::{reference_exposure, Sheet, SHEET_FILES};
 
 use crate::error::{Error, Result};
 use crate::gl::{header, Framebuffer, Gl, Program};

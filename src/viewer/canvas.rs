@@ -15,14 +15,11 @@
 //! with brush opacity $o$, dab profile $w$, brush colour $c_b$. The eraser scales alpha by
 //! $1 - a$ and snaps values below [`ERASE_SNAP`] to exactly unpainted.
 
-use std::path::Path;
-
 use glam::Vec2;
-use image::{DynamicImage, ImageFormat};
 
+pub use crate::images::Painting;
 use crate::error::{Error, Result};
-use crate::images::{check_size, linear_to_srgb, srgb_to_linear};
-use crate::util::write_atomic;
+use crate::images::check_size;
 
 /// Alpha below this after erasing becomes exactly 0 (unpainted): one 8-bit step would
 /// otherwise leave invisible samples behind.
@@ -30,116 +27,30 @@ pub const ERASE_SNAP: f32 = 1.0 / 512.0;
 /// Most undo steps kept.
 pub const HISTORY: usize = 200;
 
-/// A painting: `width` × `height` linear RGB values with straight alpha, row 0 at the top.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Painting {
-    pub width: usize,
-    pub height: usize,
-    pub pixels: Vec<[f32; 4]>,
+/// An unpainted (fully transparent) painting.
+pub fn blank(width: usize, height: usize) -> Result<Painting> {
+    check_size(width, height)?;
+    let n = width * height;
+    Ok(Painting { width, height, pixels: vec![[0.0; 3]; n], alpha: vec![0.0; n], saturated: vec![false; n] })
 }
 
-impl Painting {
-    /// An unpainted canvas (alpha 0 everywhere).
-    pub fn new(width: usize, height: usize) -> Result<Painting> {
-        check_size(width, height)?;
-        Ok(Painting { width, height, pixels: vec![[0.0; 4]; width * height] })
-    }
-
-    /// Whether pixel `k` is painted (a sample).
-    #[inline]
-    pub fn is_painted(&self, k: usize) -> bool {
-        self.pixels[k][3] > 0.0
-    }
-
-    /// Number of painted pixels.
-    pub fn painted(&self) -> usize {
-        self.pixels.iter().filter(|p| p[3] > 0.0).count()
-    }
-
-    /// Reads a painting: PNG or JPEG (8 or 16 bit, sRGB-encoded, decoded to linear) or EXR
-    /// (linear). A file without alpha is painted everywhere. Errors name the file: unreadable,
-    /// truncated or corrupt data, an absurd size, NaN or negative values.
-    pub fn read(path: &Path) -> Result<Painting> {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-        Self::decode(path, &bytes)
-    }
-
-    /// [`Painting::read`] from bytes already in memory; `path` names them in errors.
-    pub fn decode(path: &Path, bytes: &[u8]) -> Result<Painting> {
-        if bytes.is_empty() {
-            return Err(Error::format(path, "the file is empty"));
-        }
-        let format = image::guess_format(bytes)
-            .map_err(|_| Error::format(path, "not a PNG, JPEG or EXR image"))?;
-        let image = image::load_from_memory_with_format(bytes, format)
-            .map_err(|e| Error::format(path, format!("cannot decode: {e}")))?;
-        let (width, height) = (image.width() as usize, image.height() as usize);
-        check_size(width, height).map_err(|e| Error::format(path, e.to_string()))?;
-        let pixels = decode_pixels(&image, format == ImageFormat::OpenExr);
-        if let Some(k) = pixels.iter().position(|p| p.iter().any(|x| !x.is_finite() || *x < 0.0)) {
-            return Err(Error::format(
-                path,
-                format!("pixel ({}, {}) has a NaN, infinite or negative value {:?}", k % width, k / width, pixels[k]),
-            ));
-        }
-        Ok(Painting { width, height, pixels })
-    }
-
-    /// Writes the painting atomically: `.exr` as linear float RGBA (exact), anything else as a
-    /// 16-bit sRGB-encoded RGBA PNG.
-    pub fn write(&self, path: &Path) -> Result<()> {
-        let exr = path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-        let mut out = std::io::Cursor::new(Vec::new());
-        let (w, h) = (self.width as u32, self.height as u32);
-        let encoded = if exr {
-            let flat: Vec<f32> = self.pixels.iter().flatten().copied().collect();
-            image::Rgba32FImage::from_raw(w, h, flat).map(|img| img.write_to(&mut out, ImageFormat::OpenExr))
-        } else {
-            let flat: Vec<u16> = self
-                .pixels
-                .iter()
-                .flat_map(|p| {
-                    let e = |x: f32| (linear_to_srgb(x) * 65535.0 + 0.5) as u16;
-                    [e(p[0]), e(p[1]), e(p[2]), (p[3].clamp(0.0, 1.0) * 65535.0 + 0.5) as u16]
-                })
-                .collect();
-            image::ImageBuffer::<image::Rgba<u16>, _>::from_raw(w, h, flat)
-                .map(|img| img.write_to(&mut out, ImageFormat::Png))
-        };
-        match encoded {
-            Some(Ok(())) => write_atomic(path, out.get_ref()),
-            Some(Err(e)) => Err(Error::format(path, e.to_string())),
-            None => Err(Error::format(path, "pixel buffer does not match the painting's size")),
-        }
-    }
+/// One pixel of a painting: linear RGB and straight alpha, and whether a file's value was
+/// clipped (what [`Painting::saturated`] keeps; paint from the brush never is).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Texel {
+    pub rgba: [f32; 4],
+    pub saturated: bool,
 }
 
-/// Linear RGBA from a decoded image: sRGB-decoded unless `linear`.
-fn decode_pixels(image: &DynamicImage, linear: bool) -> Vec<[f32; 4]> {
-    if linear {
-        return image.to_rgba32f().pixels().map(|p| p.0).collect();
-    }
-    let eight_bit = matches!(
-        image,
-        DynamicImage::ImageLuma8(_) | DynamicImage::ImageLumaA8(_) | DynamicImage::ImageRgb8(_) | DynamicImage::ImageRgba8(_)
-    );
-    if eight_bit {
-        let lut: Vec<f32> = (0..256).map(|c| srgb_to_linear(c as f32 / 255.0)).collect();
-        image
-            .to_rgba8()
-            .pixels()
-            .map(|p| [lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize], p[3] as f32 / 255.0])
-            .collect()
-    } else {
-        image
-            .to_rgba16()
-            .pixels()
-            .map(|p| {
-                let d = |c: u16| srgb_to_linear(c as f32 / 65535.0);
-                [d(p[0]), d(p[1]), d(p[2]), p[3] as f32 / 65535.0]
-            })
-            .collect()
-    }
+fn texel(p: &Painting, k: usize) -> Texel {
+    let c = p.pixels[k];
+    Texel { rgba: [c[0], c[1], c[2], p.alpha[k]], saturated: p.saturated[k] }
+}
+
+fn set_texel(p: &mut Painting, k: usize, t: Texel) {
+    p.pixels[k] = [t.rgba[0], t.rgba[1], t.rgba[2]];
+    p.alpha[k] = t.rgba[3];
+    p.saturated[k] = t.saturated;
 }
 
 /// A round brush. The same settings erase when `erase` is set.
@@ -180,27 +91,30 @@ impl Brush {
     }
 }
 
-/// Blends `a` of the brush into pixel `p` (see the module docs).
-fn blend(p: [f32; 4], brush: &Brush, a: f32) -> [f32; 4] {
+/// Blends `a` of the brush into pixel `t` (see the module docs).
+fn blend(t: Texel, brush: &Brush, a: f32) -> Texel {
     if a <= 0.0 {
-        return p;
+        return t;
     }
+    let p = t.rgba;
     if brush.erase {
         let alpha = p[3] * (1.0 - a);
-        return if alpha < ERASE_SNAP { [0.0; 4] } else { [p[0], p[1], p[2], alpha] };
+        return if alpha < ERASE_SNAP { Texel::default() } else { Texel { rgba: [p[0], p[1], p[2], alpha], ..t } };
     }
     let rest = p[3] * (1.0 - a);
     let alpha = a + rest;
     let c = brush.color;
-    [(a * c[0] + rest * p[0]) / alpha, (a * c[1] + rest * p[1]) / alpha, (a * c[2] + rest * p[2]) / alpha, alpha]
+    let rgba =
+        [(a * c[0] + rest * p[0]) / alpha, (a * c[1] + rest * p[1]) / alpha, (a * c[2] + rest * p[2]) / alpha, alpha];
+    Texel { rgba, saturated: false }
 }
 
 /// One undoable change: the pixels it touched, before and after.
 #[derive(Clone, Debug, Default)]
 struct Edit {
     pixels: Vec<u32>,
-    before: Vec<[f32; 4]>,
-    after: Vec<[f32; 4]>,
+    before: Vec<Texel>,
+    after: Vec<Texel>,
 }
 
 /// The stroke in progress.
@@ -209,7 +123,7 @@ struct Active {
     last: Option<Vec2>,
     /// Per touched pixel: its index, value before the stroke, largest coverage so far.
     touched: Vec<u32>,
-    before: Vec<[f32; 4]>,
+    before: Vec<Texel>,
     coverage: Vec<f32>,
 }
 
@@ -246,13 +160,14 @@ pub struct Canvas {
 impl Canvas {
     /// An unpainted canvas.
     pub fn new(width: usize, height: usize) -> Result<Canvas> {
-        Ok(Canvas::from_painting(Painting::new(width, height)?))
+        Ok(Canvas::from_painting(blank(width, height)?))
     }
 
     /// A canvas holding `painting`, with an empty history.
     pub fn from_painting(painting: Painting) -> Canvas {
         let n = painting.pixels.len();
         let (w, h) = (painting.width, painting.height);
+        debug_assert!(painting.alpha.len() == n && painting.saturated.len() == n);
         Canvas {
             painting,
             undo: Vec::new(),
@@ -358,7 +273,7 @@ impl Canvas {
                     u32::MAX => {
                         let s = active.touched.len();
                         active.touched.push(k as u32);
-                        active.before.push(self.painting.pixels[k]);
+                        active.before.push(texel(&self.painting, k));
                         active.coverage.push(0.0);
                         self.index[k] = s as u32;
                         s
@@ -369,10 +284,10 @@ impl Canvas {
                     continue;
                 }
                 active.coverage[slot] = cov;
-                let old = self.painting.pixels[k];
+                let old = self.painting.alpha[k];
                 let new = blend(active.before[slot], &brush, brush.opacity.clamp(0.0, 1.0) * cov);
-                changed_mask |= (old[3] > 0.0) != (new[3] > 0.0);
-                self.painting.pixels[k] = new;
+                changed_mask |= (old > 0.0) != (new.rgba[3] > 0.0);
+                set_texel(&mut self.painting, k, new);
             }
         }
         self.touch(PixelRect { x0, y0, x1, y1 }, changed_mask);
@@ -384,7 +299,7 @@ impl Canvas {
         for &k in &active.touched {
             self.index[k as usize] = u32::MAX;
         }
-        let after = active.touched.iter().map(|&k| self.painting.pixels[k as usize]).collect();
+        let after = active.touched.iter().map(|&k| texel(&self.painting, k as usize)).collect();
         self.record(Edit { pixels: active.touched, before: active.before, after });
     }
 
@@ -402,12 +317,16 @@ impl Canvas {
     pub fn fill(&mut self, brush: Brush, pixels: &[u32]) {
         self.end_stroke();
         let a = brush.opacity.clamp(0.0, 1.0);
-        let new: Vec<[f32; 4]> = pixels.iter().map(|&k| blend(self.painting.pixels[k as usize], &brush, a)).collect();
+        let new: Vec<Texel> = pixels.iter().map(|&k| blend(texel(&self.painting, k as usize), &brush, a)).collect();
         self.replace(pixels, new);
     }
 
     /// Replaces the whole painting (same size), as one undoable edit.
     pub fn set_painting(&mut self, painting: &Painting) -> Result<()> {
+        let n = painting.width * painting.height;
+        if painting.pixels.len() != n || painting.alpha.len() != n || painting.saturated.len() != n {
+            return Err(Error::input("the painting's pixel, alpha and saturation lists do not match its size"));
+        }
         if painting.width != self.width() || painting.height != self.height() {
             return Err(Error::input(format!(
                 "a {}x{} painting does not fit a {}x{} canvas",
@@ -418,17 +337,18 @@ impl Canvas {
             )));
         }
         self.end_stroke();
-        let pixels: Vec<u32> = (0..painting.pixels.len() as u32).collect();
-        self.replace(&pixels, painting.pixels.clone());
+        let pixels: Vec<u32> = (0..n as u32).collect();
+        let values = (0..n).map(|k| texel(painting, k)).collect();
+        self.replace(&pixels, values);
         Ok(())
     }
 
     /// Sets `pixels` to `values` as one undoable edit (pixels that do not change are left
     /// out of the record).
-    fn replace(&mut self, pixels: &[u32], values: Vec<[f32; 4]>) {
+    fn replace(&mut self, pixels: &[u32], values: Vec<Texel>) {
         let mut edit = Edit::default();
         for (&k, v) in pixels.iter().zip(values) {
-            let old = self.painting.pixels[k as usize];
+            let old = texel(&self.painting, k as usize);
             if old != v {
                 edit.pixels.push(k);
                 edit.before.push(old);
@@ -454,14 +374,14 @@ impl Canvas {
     }
 
     /// Writes values to pixels, keeping the versions and the dirty rectangle.
-    fn apply(&mut self, pixels: &[u32], values: &[[f32; 4]]) {
+    fn apply(&mut self, pixels: &[u32], values: &[Texel]) {
         let w = self.painting.width;
         let mut changed_mask = false;
         let mut rect: Option<PixelRect> = None;
         for (&k, v) in pixels.iter().zip(values) {
             let k = k as usize;
-            changed_mask |= (self.painting.pixels[k][3] > 0.0) != (v[3] > 0.0);
-            self.painting.pixels[k] = *v;
+            changed_mask |= (self.painting.alpha[k] > 0.0) != (v.rgba[3] > 0.0);
+            set_texel(&mut self.painting, k, *v);
             let (i, j) = (k % w, k / w);
             let r = PixelRect { x0: i, y0: j, x1: i + 1, y1: j + 1 };
             rect = Some(rect.map_or(r, |o| o.union(r)));
@@ -512,9 +432,9 @@ mod tests {
         c.stroke(brush(3.0), &[Vec2::new(10.0, 10.0)]);
         let p = c.painting();
         // Centres within 3 px of (10, 10): pixel (9, 9) has its centre at (9.5, 9.5).
-        assert_eq!(p.pixels[9 * 20 + 9], [1.0, 0.5, 0.25, 1.0]);
-        assert_eq!(p.pixels[10 * 20 + 13], [0.0; 4], "centre (13.5, 10.5) is 3.54 px away");
-        let n = p.painted();
+        assert_eq!((p.pixels[9 * 20 + 9], p.alpha[9 * 20 + 9]), ([1.0, 0.5, 0.25], 1.0));
+        assert_eq!(p.alpha[10 * 20 + 13], 0.0, "centre (13.5, 10.5) is 3.54 px away");
+        let n = p.alpha.iter().filter(|&&a| a > 0.0).count();
         assert!((24..=32).contains(&n), "about pi r^2 = 28 pixels, got {n}");
     }
 
@@ -524,11 +444,11 @@ mod tests {
         soft.opacity = 0.5;
         let mut c = Canvas::new(30, 10).unwrap();
         c.stroke(soft, &[Vec2::new(5.0, 5.0), Vec2::new(25.0, 5.0)]);
-        let a = c.painting().pixels[5 * 30 + 15][3];
+        let a = c.painting().alpha[5 * 30 + 15];
         assert!((a - 0.5).abs() < 1e-6, "alpha {a}");
         // A second stroke does accumulate.
         c.stroke(soft, &[Vec2::new(5.0, 5.0), Vec2::new(25.0, 5.0)]);
-        assert!((c.painting().pixels[5 * 30 + 15][3] - 0.75).abs() < 1e-6);
+        assert!((c.painting().alpha[5 * 30 + 15] - 0.75).abs() < 1e-6);
     }
 
     #[test]
@@ -542,18 +462,18 @@ mod tests {
         eraser.erase = true;
         c.stroke(eraser, &[Vec2::new(8.0, 8.0)]);
         assert!(c.mask_version() > v);
-        assert_eq!(c.painting().pixels[8 * 16 + 8], [0.0; 4]);
+        assert_eq!((c.painting().pixels[8 * 16 + 8], c.painting().alpha[8 * 16 + 8]), ([0.0; 3], 0.0));
         assert!(c.undo());
         assert_eq!(c.painting(), &painted);
         assert!(c.undo());
         assert_eq!(c.painting(), &empty);
         assert!(!c.undo());
         assert!(c.redo() && c.redo() && !c.redo());
-        assert_eq!(c.painting().pixels[8 * 16 + 8], [0.0; 4]);
+        assert_eq!(c.painting().alpha[8 * 16 + 8], 0.0);
     }
 
     #[test]
-    fn paintings_round_trip_through_exr_exactly_and_png_closely() {
+    fn a_painting_round_trips_through_exr_exactly_and_undo_keeps_saturation_flags() {
         let dir = tempfile::tempdir().unwrap();
         let mut c = Canvas::new(9, 7).unwrap();
         let mut b = brush(3.0);
@@ -561,19 +481,23 @@ mod tests {
         c.stroke(b, &[Vec2::new(4.0, 3.0)]);
         let exr = dir.path().join("p.exr");
         c.painting().write(&exr).unwrap();
-        assert_eq!(&Painting::read(&exr).unwrap(), c.painting());
-        let png = dir.path().join("p.png");
-        c.painting().write(&png).unwrap();
-        let back = Painting::read(&png).unwrap();
-        for (a, b) in back.pixels.iter().zip(&c.painting().pixels) {
-            for k in 0..4 {
-                assert!((a[k] - b[k]).abs() < 1e-4, "{a:?} vs {b:?}");
+        let back = Painting::read(&exr).unwrap();
+        for k in 0..back.pixels.len() {
+            assert_eq!(back.alpha[k], c.painting().alpha[k]);
+            for q in 0..3 {
+                let (x, y) = (back.pixels[k][q], c.painting().pixels[k][q]);
+                assert!((x - y).abs() <= 1e-6 * y.abs(), "{x} vs {y}: premultiplied storage rounds");
             }
         }
-        let bad = dir.path().join("bad.png");
-        let bytes = std::fs::read(&png).unwrap();
-        std::fs::write(&bad, &bytes[..bytes.len() / 2]).unwrap();
-        let e = Painting::read(&bad).unwrap_err().to_string();
-        assert!(e.contains("bad.png"), "{e}");
+        // A loaded painting's saturation flags survive a stroke and its undo.
+        let mut loaded = blank(9, 7).unwrap();
+        loaded.pixels[0] = [1.0; 3];
+        loaded.alpha[0] = 1.0;
+        loaded.saturated[0] = true;
+        c.set_painting(&loaded).unwrap();
+        c.stroke(brush(20.0), &[Vec2::new(0.0, 0.0)]);
+        assert!(!c.painting().saturated[0], "paint is never clipped");
+        assert!(c.undo());
+        assert_eq!(c.painting(), &loaded);
     }
 }

@@ -30,12 +30,13 @@ use glow::HasContext;
 
 use super::canvas::{Brush, Canvas, Painting};
 use super::sample::{self, Slot};
+use crate::render::Shading;
 use crate::error::{Error, Result};
 use crate::factor::{self, Errors, Fit, LogMap, Mapping, Pattern, Prepared, Settings};
 use crate::gl::{Framebuffer, HeadlessContext};
 use crate::material::{Material, Provenance};
 use crate::render::{GpuScene, LightUniforms, ReferenceStyle, Renderer};
-use crate::scene::{Projection, Scene};
+use crate::scene::Scene;
 
 /// Side of the standard painting.
 pub const DEFAULT_SIZE: usize = 512;
@@ -50,6 +51,8 @@ pub struct PaintView {
     pub height: usize,
     /// Pixels that may be samples, in pixel order.
     pub slots: Vec<Slot>,
+    /// Whether the samples carry texture coordinates (every mesh has them).
+    pub has_uv: bool,
     /// Per pixel: the pixel sees the object.
     pub hit: Vec<bool>,
     /// Per pixel: an outline (silhouette, crease or occlusion line) passes here.
@@ -64,12 +67,12 @@ impl PaintView {
     /// canvas. Errors: the camera's aspectRatio disagrees with the size by more than 1%, GL
     /// failures, a bad camera or light.
     pub fn new(renderer: &mut Renderer, name: &str, scene: Scene, width: usize, height: usize) -> Result<PaintView> {
-        check_aspect(name, &scene, width, height)?;
+        crate::sample::check_aspect(&scene.camera, width, height, name)?;
         let gpu = GpuScene::upload(renderer.gl(), &scene)?;
         let g = renderer.gbuffer(&gpu, width, height)?;
         let reference = renderer.reference(&gpu, &ReferenceStyle::default(), width, height)?;
-        let light = LightUniforms::new(&scene.light)?;
-        let slots = sample::slots(&g, light.rgb);
+        LightUniforms::new(&scene.light)?;
+        let (slots, has_uv) = sample::slots(&g, &scene)?;
         let lines = g.lines(&crate::render::OutlineStyle::default());
         let hit = g.pixels.iter().map(|p| p.hit).collect();
         Ok(PaintView {
@@ -78,6 +81,7 @@ impl PaintView {
             width,
             height,
             slots,
+            has_uv,
             hit,
             lines,
             reference: reference.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect(),
@@ -94,16 +98,17 @@ impl PaintView {
 
     /// Indices into [`PaintView::slots`] of the painted ones.
     pub fn painted_slots(&self) -> Vec<u32> {
-        let p = self.canvas.painting();
-        (0..self.slots.len() as u32).filter(|&s| p.is_painted(self.slots[s as usize].pixel as usize)).collect()
+        let alpha = &self.canvas.painting().alpha;
+        (0..self.slots.len() as u32).filter(|&s| alpha[self.slots[s as usize].pixel as usize] > 0.0).collect()
     }
 
-    /// The sample value of slot `s` under the current painting (painted or not).
+    /// The sample value of slot `s` under the current painting (painted or not): the
+    /// colour divided by the light, exactly as [`crate::sample::Samples::gather`] computes it.
     #[inline]
     fn value(&self, s: usize) -> [f64; 3] {
         let slot = &self.slots[s];
-        let p = self.canvas.painting().pixels[slot.pixel as usize];
-        [p[0] as f64 * slot.scale[0], p[1] as f64 * slot.scale[1], p[2] as f64 * slot.scale[2]]
+        let c = self.canvas.painting().pixels[slot.pixel as usize];
+        [0, 1, 2].map(|i| c[i] as f64 / slot.light[i])
     }
 
     /// The region the fill tool fills from pixel `(i, j)`: the pixels of the object reachable
@@ -157,28 +162,11 @@ impl PaintView {
     /// The reference image as a fully painted painting: a quick start, and the standard
     /// test painting.
     pub fn reference_painting(&self) -> Painting {
-        let pixels = self
-            .reference
-            .iter()
-            .zip(&self.hit)
-            .map(|(c, &hit)| if hit { [c[0], c[1], c[2], 1.0] } else { [0.0; 4] })
-            .collect();
-        Painting { width: self.width, height: self.height, pixels }
+        let n = self.width * self.height;
+        let pixels = self.reference.iter().zip(&self.hit).map(|(c, &hit)| if hit { *c } else { [0.0; 3] }).collect();
+        let alpha = self.hit.iter().map(|&h| if h { 1.0 } else { 0.0 }).collect();
+        Painting { width: self.width, height: self.height, pixels, alpha, saturated: vec![false; n] }
     }
-}
-
-/// DESIGN.md: a painting whose aspect disagrees with the camera's aspectRatio by more than 1%
-/// is an error.
-fn check_aspect(name: &str, scene: &Scene, width: usize, height: usize) -> Result<()> {
-    if let Projection::Perspective { aspect: Some(a), .. } = scene.camera.projection {
-        let ours = width as f32 / height as f32;
-        if (ours - a).abs() > 0.01 * a {
-            return Err(Error::input(format!(
-                "{name} is {width}x{height} but the scene camera's aspect is {a}"
-            )));
-        }
-    }
-    Ok(())
 }
 
 /// The pattern of the given slots of the given views, views in order, slots in order: the
@@ -189,7 +177,7 @@ fn pattern_of(views: &[&PaintView], masks: &[Vec<u32>]) -> Pattern {
         .zip(masks)
         .flat_map(|(v, m)| m.iter().map(move |&s| v.slots[s as usize].query))
         .collect();
-    Pattern::new(queries, true)
+    Pattern::new(queries, views.iter().all(|v| v.has_uv))
 }
 
 /// Values of the painted slots, views in order.
@@ -406,7 +394,7 @@ impl PaintSession {
                 m.iter()
                     .map(|&s| {
                         let slot = &v.slots[s as usize];
-                        (slot.pixel, slot.scale)
+                        (slot.pixel, slot.light)
                     })
                     .collect()
             })
@@ -457,7 +445,7 @@ impl PaintSession {
     pub fn refit(&mut self) -> Result<Option<Refit>> {
         self.poll()?;
         let current = self.system_is_current();
-        if !current && self.views.iter().all(|v| v.canvas.painting().painted() == 0) {
+        if !current && self.views.iter().all(|v| v.canvas.painting().alpha.iter().all(|&a| a <= 0.0)) {
             // Everything was erased: keep the last material until something is painted.
             return Ok(None);
         }
@@ -468,12 +456,12 @@ impl PaintSession {
         let mut values = Vec::with_capacity(system.prepared.samples());
         let mut erased = Vec::new();
         for (v, gather) in self.views.iter().zip(&system.gather) {
-            let pixels = &v.canvas.painting().pixels;
-            for &(pixel, scale) in gather {
-                let p = pixels[pixel as usize];
-                if p[3] > 0.0 {
+            let painting = v.canvas.painting();
+            for &(pixel, light) in gather {
+                if painting.alpha[pixel as usize] > 0.0 {
                     // Exactly `PaintView::value`, so a current system's solve is the one-go fit.
-                    values.push([p[0] as f64 * scale[0], p[1] as f64 * scale[1], p[2] as f64 * scale[2]]);
+                    let c = painting.pixels[pixel as usize];
+                    values.push([c[0] as f64 / light[0], c[1] as f64 / light[1], c[2] as f64 / light[2]]);
                 } else {
                     erased.push(values.len());
                     values.push([0.0; 3]);
@@ -646,7 +634,7 @@ pub fn measure_stroke_to_frame(model: &str, size: usize, strokes: usize) -> Resu
         let refit = session.refit()?.ok_or_else(|| Error::Numeric("no refit".into()))?;
         let t2 = Instant::now();
         let material = session.material().expect("refit made one");
-        let shading = renderer.upload(&sample::shading(material))?;
+        let shading = renderer.upload(&Shading::from_material(material)?)?;
         let t3 = Instant::now();
         target.bind();
         // SAFETY: plain state calls on the current context.

@@ -11,13 +11,12 @@ use super::camera::{LightControl, Orbit};
 use super::canvas::{Brush, Painting};
 use super::display::PixelRect;
 use super::paint::{read_painting_for, PaintSession, PaintView, Refit};
-use super::sample;
 use super::watch::{WatchStatus, Watcher};
 use crate::error::{Error, Result};
 use crate::factor::{defaults, Domain, Input, Mapping, Settings};
 use crate::images::linear_to_srgb;
 use crate::material::Material;
-use crate::render::{GpuScene, GpuShading, Renderer};
+use crate::render::{GpuScene, GpuShading, Renderer, Shading};
 use crate::scene::{builtin_models, model_meshes, preset_names, BoundingSphere, CpuMesh, Scene};
 
 /// What the central area shows.
@@ -143,14 +142,16 @@ pub fn example_painting(view: &PaintView) -> Painting {
     // around the mirror direction ($n \cdot h$), and a cool fill on the unlit side.
     let base = [0.80, 0.36, 0.12];
     let fill = [0.030, 0.040, 0.075];
-    let mut p = Painting { width: view.width, height: view.height, pixels: vec![[0.0; 4]; view.width * view.height] };
+    let mut p = super::canvas::blank(view.width, view.height).expect("a view has a valid size");
     for slot in &view.slots {
         let (l, v) = (slot.query.l, slot.query.v);
         let h = (l + v).normalize_or(glam::DVec3::Z);
         let lit = l.z.max(0.0);
         let highlight = 0.55 * h.z.max(0.0).powf(80.0) * lit.sqrt();
-        let c = [0, 1, 2].map(|k| ((base[k] * lit + highlight + fill[k] * (1.0 - 0.5 * lit)) / slot.scale[k]) as f32);
-        p.pixels[slot.pixel as usize] = [c[0], c[1], c[2], 1.0];
+        // The painted colour is the shading function times the light.
+        let c = [0, 1, 2].map(|k| ((base[k] * lit + highlight + fill[k] * (1.0 - 0.5 * lit)) * slot.light[k]) as f32);
+        p.pixels[slot.pixel as usize] = c;
+        p.alpha[slot.pixel as usize] = 1.0;
     }
     p
 }
@@ -375,7 +376,7 @@ impl Studio {
         if self.shading_dirty {
             let t = Instant::now();
             self.shading = match self.current_material() {
-                Some(m) => match renderer.upload(&sample::shading(m)) {
+                Some(m) => match Shading::from_material(m).and_then(|s| renderer.upload(&s)) {
                     Ok(s) => Some(s),
                     Err(e) => {
                         self.error = Some(format!("cannot draw the material: {e}"));
@@ -741,7 +742,8 @@ impl Studio {
             ui.horizontal_wrapped(|ui| {
                 for name in preset_names() {
                     let open = self.view_names.iter().position(|n| n == name);
-                    let painted = open.is_some_and(|k| self.session.views[k].canvas.painting().painted() > 0);
+                    let painted =
+                        open.is_some_and(|k| self.session.views[k].canvas.painting().alpha.iter().any(|&a| a > 0.0));
                     let label = if painted {
                         egui::RichText::new(format!("{name} *")).strong().color(Color32::from_rgb(250, 170, 80))
                     } else {
@@ -991,8 +993,8 @@ impl Studio {
                 if c.x >= 0.0 && c.y >= 0.0 && c.x < w && c.y < h {
                     let view = &self.session.views[k];
                     let i = c.y as usize * view.width + c.x as usize;
-                    let px = view.canvas.painting().pixels[i];
-                    self.brush.color = if px[3] > 0.0 { [px[0], px[1], px[2]] } else { view.reference[i] };
+                    let p = view.canvas.painting();
+                    self.brush.color = if p.alpha[i] > 0.0 { p.pixels[i] } else { view.reference[i] };
                 }
             }
         }
@@ -1038,7 +1040,7 @@ impl Studio {
                     [1.0; 3]
                 };
                 let p = painting.pixels[idx];
-                let a = p[3].clamp(0.0, 1.0);
+                let a = painting.alpha[idx].clamp(0.0, 1.0);
                 let mut c = [0, 1, 2].map(|q| base[q] * (1.0 - a) + p[q] * a);
                 if guides.0 && view.lines[idx] {
                     c = c.map(|x| x * 0.12);

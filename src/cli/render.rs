@@ -1,0 +1,258 @@
+//! `brdfpaint render`: a material on a scene, headless, to PNG or EXR; and the scene options
+//! that `render` and `sheet` share.
+
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+use crate::gl::{HeadlessContext, Limits};
+use crate::material::Material;
+use crate::render::orbit::{orbit_centre, orbit_frame};
+use crate::render::{GpuScene, Orbit, Renderer, Shading};
+use crate::scene::{self, Projection, Scene};
+
+/// Default image height (and width, unless a scene's camera sets the aspect).
+const DEFAULT_SIDE: usize = 512;
+/// Largest image side accepted.
+pub(super) const MAX_SIDE: usize = 16384;
+/// Most frames of a sequence.
+const MAX_FRAMES: usize = 10_000;
+/// Allowed disagreement of the camera's aspectRatio with W/H (DESIGN.md, Conventions).
+const ASPECT_TOLERANCE: f32 = 0.01;
+
+/// Where the scene comes from: a glTF scene, or a model framed by a preset.
+#[derive(clap::Args)]
+pub(super) struct SceneArgs {
+    /// A glTF 2.0 scene (.gltf or .glb): meshes, one camera, one light.
+    #[arg(long, value_name = "S.gltf", conflicts_with_all = ["model", "preset"], required_unless_present = "model")]
+    scene: Option<PathBuf>,
+    /// A model to frame with --preset: a built-in name (sphere, bunny, suzanne, teapot, apple,
+    /// fox) or a .glb/.gltf file (its cameras and lights are ignored).
+    #[arg(long, value_name = "M.glb|NAME", required_unless_present = "scene")]
+    model: Option<PathBuf>,
+    /// Standard view and light for --model: front-left (default), front-right, front, top,
+    /// side, back, rim.
+    #[arg(long, value_name = "NAME", requires = "model")]
+    preset: Option<String>,
+    /// Image size in pixels, WxH: 1 to 16384 per side, at most 4096x4096 pixels in all.
+    /// Default 512x512; with --scene and a camera aspectRatio, 512 high at that aspect.
+    #[arg(long, value_name = "WxH")]
+    size: Option<String>,
+}
+
+/// A resolved scene and image size.
+pub(super) struct Resolved {
+    pub scene: Scene,
+    pub width: usize,
+    pub height: usize,
+    /// How to name the scene in messages.
+    pub name: String,
+}
+
+impl SceneArgs {
+    /// Parses the size, loads or frames the scene, and checks the camera's aspect against
+    /// the size. Presets are framed at aspect W/H.
+    pub(super) fn resolve(&self) -> Result<Resolved> {
+        let size = self.size.as_deref().map(parse_size).transpose()?;
+        if let Some(path) = &self.scene {
+            let scene = scene::load(path)?;
+            let file_aspect = match scene.camera.projection {
+                Projection::Perspective { aspect, .. } => aspect,
+                Projection::Orthographic { .. } => None,
+            };
+            let (width, height) = match (size, file_aspect) {
+                (Some(s), _) => s,
+                (None, Some(a)) => (((DEFAULT_SIDE as f32 * a).round() as usize).clamp(1, MAX_SIDE), DEFAULT_SIDE),
+                (None, None) => (DEFAULT_SIDE, DEFAULT_SIDE),
+            };
+            if let Some(a) = file_aspect {
+                let image = width as f32 / height as f32;
+                if (a - image).abs() > ASPECT_TOLERANCE * a {
+                    return Err(Error::format(
+                        path,
+                        format!(
+                            "the camera's aspectRatio is {a:.4} but the image is {width}x{height} (aspect {image:.4}); give --size with the camera's aspect"
+                        ),
+                    ));
+                }
+            }
+            check_pixels(width, height)?;
+            Ok(Resolved { scene, width, height, name: path.display().to_string() })
+        } else {
+            let model = self.model.as_ref().expect("clap requires --scene or --model");
+            let preset_name = self.preset.as_deref().unwrap_or(scene::presets()[0].name);
+            let preset = scene::preset(preset_name)?;
+            let (width, height) = size.unwrap_or((DEFAULT_SIDE, DEFAULT_SIDE));
+            check_pixels(width, height)?;
+            let meshes = scene::model_meshes(model)?;
+            let scene = scene::frame(meshes, &preset, width as f32 / height as f32);
+            Ok(Resolved { scene, width, height, name: format!("{} ({preset_name})", model.display()) })
+        }
+    }
+}
+
+/// `WxH` with both sides in 1..=[`MAX_SIDE`].
+pub(super) fn parse_size(text: &str) -> Result<(usize, usize)> {
+    let bad = || Error::input(format!("--size {text}: expected WxH, e.g. 512x512"));
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (usize, usize) = (w.trim().parse().map_err(|_| bad())?, h.trim().parse().map_err(|_| bad())?);
+    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+        return Err(Error::input(format!("--size {text}: width and height must be 1 to {MAX_SIDE} pixels")));
+    }
+    Ok((w, h))
+}
+
+/// The renderer's pixel budget ([`Limits::MAX_PIXELS`]).
+fn check_pixels(width: usize, height: usize) -> Result<()> {
+    if width * height > Limits::MAX_PIXELS {
+        return Err(Error::input(format!(
+            "--size {width}x{height}: {} pixels is more than the {} the renderer draws (e.g. 4096x4096)",
+            width * height,
+            Limits::MAX_PIXELS
+        )));
+    }
+    Ok(())
+}
+
+#[derive(clap::Args)]
+pub(super) struct RenderArgs {
+    /// Material directory (or its material.json).
+    #[arg(value_name = "MAT")]
+    material: PathBuf,
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Output image: .png (sRGB, 8-bit, clamped to [0, 1]) or .exr (linear float). Background
+    /// black. With a sequence option, frames are R-000.png, R-001.png, ...
+    #[arg(long, value_name = "R.png|R.exr")]
+    out: PathBuf,
+    /// N frames with the camera orbiting the model's vertical axis (the light stays).
+    #[arg(long, value_name = "N", conflicts_with = "light_sweep")]
+    turntable: Option<usize>,
+    /// N frames with the light orbiting the model's vertical axis (the camera stays).
+    #[arg(long, value_name = "N")]
+    light_sweep: Option<usize>,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Format {
+    Png,
+    Exr,
+}
+
+pub(super) fn run(args: RenderArgs) -> Result<()> {
+    let format = match args.out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+        Some("png") => Format::Png,
+        Some("exr") => Format::Exr,
+        _ => {
+            return Err(Error::input(format!("{}: the output must be a .png or .exr file", args.out.display())));
+        }
+    };
+    let (orbit, frames) = match (args.turntable, args.light_sweep) {
+        (Some(n), _) => (Some(Orbit::Camera), n),
+        (None, Some(n)) => (Some(Orbit::Light), n),
+        (None, None) => (None, 1),
+    };
+    if orbit.is_some() && !(1..=MAX_FRAMES).contains(&frames) {
+        return Err(Error::input(format!("a sequence needs 1 to {MAX_FRAMES} frames, not {frames}")));
+    }
+    let material = Material::load(&args.material)?;
+    let json = if args.material.is_dir() { args.material.join("material.json") } else { args.material.clone() };
+    let shading = Shading::from_material(&material).map_err(|e| Error::format(&json, e.to_string()))?;
+    let Resolved { scene, width, height, name } = args.scene.resolve()?;
+    if material.needs_uv() {
+        if let Some(k) = scene.meshes.iter().position(|m| m.uvs.is_none()) {
+            return Err(Error::input(format!(
+                "{}: the material looks up texture coordinates (a uv factor or coefficient textures) but mesh {k} of {name} has none",
+                json.display()
+            )));
+        }
+    }
+
+    let paths: Vec<PathBuf> = match orbit {
+        None => vec![args.out.clone()],
+        Some(_) => (0..frames).map(|k| frame_path(&args.out, k, frames)).collect(),
+    };
+    let ctx = HeadlessContext::new()?;
+    let mut renderer = Renderer::new(ctx.gl())?;
+    let gpu_shading = renderer.upload(&shading)?;
+    let mut gpu = GpuScene::upload(ctx.gl(), &scene)?;
+    let centre = orbit_centre(&scene);
+
+    // Frames go to hidden temporary names and are renamed only when all are written.
+    let mut written: Vec<(PathBuf, PathBuf)> = Vec::new();
+    let result = (|| -> Result<()> {
+        for (k, path) in paths.iter().enumerate() {
+            if let Some(orbit) = orbit {
+                (gpu.camera, gpu.light) = orbit_frame(&scene.camera, &scene.light, centre, orbit, k, frames);
+            }
+            let image = renderer.factored(&gpu, &gpu_shading, width, height)?.to_rgb();
+            let tmp = crate::util::temp_sibling(path);
+            written.push((tmp.clone(), path.clone()));
+            match format {
+                // Name the real file in errors, not the temporary one.
+                Format::Png => image.write_png(&tmp),
+                Format::Exr => image.write_exr(&tmp),
+            }
+            .map_err(|e| rename_error(e, &tmp, path))?;
+        }
+        for (done, (tmp, path)) in written.iter().enumerate() {
+            if let Err(e) = std::fs::rename(tmp, path) {
+                for (_, p) in &written[..done] {
+                    let _ = std::fs::remove_file(p);
+                }
+                return Err(Error::io(path, e));
+            }
+        }
+        Ok(())
+    })();
+    if result.is_err() {
+        for (tmp, _) in &written {
+            let _ = std::fs::remove_file(tmp);
+        }
+    }
+    result?;
+    let what = match orbit {
+        None => String::new(),
+        Some(Orbit::Camera) => format!(", turntable of {frames} frames"),
+        Some(Orbit::Light) => format!(", light sweep of {frames} frames"),
+    };
+    let first = paths[0].display();
+    let outputs =
+        if paths.len() == 1 { first.to_string() } else { format!("{first} ... {}", paths[paths.len() - 1].display()) };
+    println!("rendered {} on {name} at {width}x{height}{what}: {outputs}", args.material.display());
+    Ok(())
+}
+
+/// `R-007.png` for frame 7: the stem, a dash, the index zero-padded to at least 3 digits
+/// (more when there are more frames), the extension.
+pub(super) fn frame_path(out: &Path, k: usize, frames: usize) -> PathBuf {
+    let digits = (frames.saturating_sub(1)).to_string().len().max(3);
+    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let ext = out.extension().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    out.with_file_name(format!("{stem}-{k:0digits$}.{ext}"))
+}
+
+/// An error about a temporary file, told about the file it stands for.
+fn rename_error(e: Error, tmp: &Path, path: &Path) -> Error {
+    match e {
+        Error::Io { source, .. } => Error::io(path, source),
+        Error::Format { reason, .. } => Error::format(path, reason),
+        other => Error::input(other.to_string().replace(&tmp.display().to_string(), &path.display().to_string())),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_and_frame_names() {
+        assert_eq!(parse_size("640x480").unwrap(), (640, 480));
+        assert_eq!(parse_size("16384X1").unwrap(), (16384, 1));
+        for bad in ["0x10", "10x0", "100000x100000", "16385x2", "x", "12", "axb", "-1x5"] {
+            assert!(parse_size(bad).is_err(), "{bad}");
+        }
+        assert!(check_pixels(4096, 4096).is_ok() && check_pixels(4097, 4096).is_err());
+        assert_eq!(frame_path(Path::new("out/r.png"), 7, 24), Path::new("out/r-007.png"));
+        assert_eq!(frame_path(Path::new("r.exr"), 12, 2000), Path::new("r-0012.exr"));
+    }
+}

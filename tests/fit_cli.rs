@@ -1,0 +1,228 @@
+//! `brdfpaint fit --scene S --image P`, run as a user runs it: the material, report.png,
+//! errors in provenance and on the terminal, the prepare cache, several views, and every
+//! bad input (one line on stderr naming the file, exit 1, nothing written).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use brdfpaint::brdf::Analytic;
+use brdfpaint::images::{Painting, Rgb};
+use brdfpaint::material::Material;
+use brdfpaint::sample::{Erosion, SceneSampler};
+use brdfpaint::scene::{frame, sphere_mesh, Light, Preset, Scene};
+use glam::Vec3;
+
+struct Run {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+fn brdfpaint(cache: &Path, args: &[&str]) -> Run {
+    let out = Command::new(env!("CARGO_BIN_EXE_brdfpaint"))
+        .args(args)
+        .env("BRDFPAINT_CACHE", cache)
+        .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .output()
+        .expect("run brdfpaint");
+    Run {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&out.stdout).into(),
+        stderr: String::from_utf8_lossy(&out.stderr).into(),
+    }
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// A sphere scene file framed for `preset` with a coloured light of `intensity`.
+fn write_scene(dir: &Path, name: &str, preset: &Preset, intensity: f32) -> PathBuf {
+    let mut scene = frame(vec![sphere_mesh(64, 32)], preset, 1.0);
+    if let Light::Directional { direction, .. } = scene.light {
+        scene.light = Light::Directional { direction, color: Vec3::new(1.0, 0.9, 0.8), intensity };
+    }
+    let path = dir.join(name);
+    scene.write_gltf(&path).unwrap();
+    path
+}
+
+/// Paint `model` in the scene file at `size`²: the true shading times the light at every
+/// front-facing pixel, black elsewhere. `.png` gives an 8-bit sRGB PNG (what a paint
+/// program saves), `.exr` linear float.
+fn paint(scene: &Path, model: &Analytic, size: usize, out: &Path) -> Painting {
+    let scene = Scene::load(scene).unwrap();
+    let mut sampler = SceneSampler::new().unwrap();
+    let g = sampler.geometry(&scene, size, size, Erosion::NONE).unwrap();
+    let pixels: Vec<[f32; 3]> = g
+        .pixels
+        .iter()
+        .map(|p| {
+            p.map_or([0.0; 3], |p| {
+                let v = model.shading(p.query.l, p.query.v);
+                [0, 1, 2].map(|c| (v[c] * p.light[c]) as f32)
+            })
+        })
+        .collect();
+    let painting = Painting::opaque(size, size, pixels.clone()).unwrap();
+    if out.extension().unwrap() == "exr" {
+        painting.write(out).unwrap();
+    } else {
+        Rgb { width: size, height: size, pixels }.write_png(out).unwrap();
+    }
+    painting
+}
+
+fn blinn_phong() -> Analytic {
+    Analytic::suite()[2].clone()
+}
+
+#[test]
+fn fit_writes_the_material_its_report_and_its_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "scene.gltf", &Preset::default(), 1.2);
+    let painting = dir.path().join("painting.png");
+    paint(&scene, &blinn_phong(), 128, &painting);
+    let out = dir.path().join("mat");
+    let r = brdfpaint(&dir.path().join("cache"), &["fit", "--scene", s(&scene), "--image", s(&painting), "--out", s(&out)]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(r.stderr.is_empty(), "{}", r.stderr);
+    assert!(r.stdout.contains("view 1: ") && r.stdout.contains("painting.png") && r.stdout.contains("relative"), "{}", r.stdout);
+    assert!(r.stdout.contains("cache miss"), "{}", r.stdout);
+    let m = Material::load(&out).unwrap();
+    let e = m.provenance.errors.expect("errors in provenance");
+    // 8-bit sRGB quantization of a smooth painting: measured 0.004.
+    assert!(e.rms_relative < 0.02 && e.rms > 0.0 && e.max >= e.rms, "{e:?}");
+    // Disc of radius 0.85 * 64 px, eroded by one: pi 53.4^2 = 8960.
+    assert!((m.provenance.samples as f64 - 8960.0).abs() < 200.0, "{}", m.provenance.samples);
+    assert_eq!(m.provenance.sources, vec![s(&scene).to_string(), s(&painting).to_string()]);
+    let json = std::fs::read_to_string(out.join("material.json")).unwrap();
+    assert!(json.contains("\"rms_relative\""), "{json}");
+    // The report: painting | fit | residual, with 4 px gaps.
+    let report = image::open(out.join("report.png")).unwrap();
+    assert_eq!((report.width(), report.height()), (3 * 128 + 8, 128));
+}
+
+#[test]
+fn a_repainted_scene_hits_the_prepare_cache() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let scene = write_scene(dir.path(), "scene.gltf", &Preset::default(), 1.0);
+    let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));
+    paint(&scene, &Analytic::suite()[0], 96, &a);
+    paint(&scene, &Analytic::suite()[8], 96, &b);
+    let out = dir.path().join("mat");
+    let first = brdfpaint(&cache, &["fit", "--scene", s(&scene), "--image", s(&a), "--out", s(&out)]);
+    assert_eq!(first.code, 0, "{}", first.stderr);
+    assert!(first.stdout.contains("cache miss"), "{}", first.stdout);
+    assert_eq!(std::fs::read_dir(&cache).unwrap().count(), 1);
+    let second = brdfpaint(&cache, &["fit", "--scene", s(&scene), "--image", s(&b), "--out", s(&out)]);
+    assert_eq!(second.code, 0, "{}", second.stderr);
+    assert!(second.stdout.contains("cache hit"), "{}", second.stdout);
+    assert_eq!(std::fs::read_dir(&cache).unwrap().count(), 1);
+    // The material was replaced by the second painting's.
+    assert_eq!(Material::load(&out).unwrap().provenance.sources[1], s(&b));
+}
+
+#[test]
+fn several_views_concatenate() {
+    let dir = tempfile::tempdir().unwrap();
+    let other = Preset { light_in_view: [0.8, 0.3, 0.5], view_azimuth_deg: 40.0, ..Preset::default() };
+    let (s1, s2) = (write_scene(dir.path(), "one.gltf", &Preset::default(), 1.0), write_scene(dir.path(), "two.gltf", &other, 0.8));
+    let (p1, p2) = (dir.path().join("one.exr"), dir.path().join("two.png"));
+    let model = Analytic::suite()[7].clone(); // Ward
+    paint(&s1, &model, 96, &p1);
+    paint(&s2, &model, 96, &p2);
+    let out = dir.path().join("mat");
+    let args = ["fit", "--scene", s(&s1), "--image", s(&p1), "--scene", s(&s2), "--image", s(&p2), "--out", s(&out)];
+    let r = brdfpaint(&dir.path().join("cache"), &args);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(r.stdout.contains("view 2: ") && r.stdout.contains("two.png"), "{}", r.stdout);
+    let m = Material::load(&out).unwrap();
+    assert_eq!(m.provenance.sources.len(), 4);
+    let report = image::open(out.join("report.png")).unwrap();
+    assert_eq!((report.width(), report.height()), (3 * 96 + 8, 2 * 96 + 4));
+}
+
+/// Every bad input: exit 1, one line on stderr that names the file, nothing written.
+#[test]
+fn bad_input_is_one_line_naming_the_file_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = write_scene(d, "scene.gltf", &Preset::default(), 1.0);
+    let good = dir.path().join("good.exr");
+    let painting = paint(&scene, &blinn_phong(), 64, &good);
+
+    let with = |name: &str, f: &dyn Fn(&mut Painting)| -> PathBuf {
+        let mut p = painting.clone();
+        f(&mut p);
+        let path = d.join(name);
+        p.write(&path).unwrap();
+        path
+    };
+    let transparent = with("transparent.png", &|p| p.alpha.fill(0.0));
+    let corner = with("corner.png", &|p| {
+        for (k, a) in p.alpha.iter_mut().enumerate() {
+            *a = if k % 64 < 5 && k / 64 < 5 { 1.0 } else { 0.0 };
+        }
+    });
+    let black = with("black.png", &|p| p.pixels.fill([0.0; 3]));
+    let white = with("white.png", &|p| p.pixels.fill([1.0; 3]));
+    let wide = d.join("wide.png");
+    Rgb::new(80, 60).unwrap().write_png(&wide).unwrap();
+    // NaN in an EXR: write the raw float through the encoder.
+    let nan = with("nan.exr", &|p| p.pixels[64 * 32 + 32][1] = f32::NAN);
+    let truncated = d.join("truncated.png");
+    let bytes = std::fs::read(&black).unwrap();
+    std::fs::write(&truncated, &bytes[..bytes.len() / 2]).unwrap();
+    let corrupt = d.join("corrupt.png");
+    std::fs::write(&corrupt, b"\x89PNG\r\n\x1a\nnot really").unwrap();
+    let teapot = d.join("teapot.gltf");
+    Scene::from_preset("teapot", "front-left").unwrap().write_gltf(&teapot).unwrap();
+    let broken_scene = d.join("broken.gltf");
+    std::fs::write(&broken_scene, b"{ \"asset\": ").unwrap();
+
+    let (missing_scene, missing_png) = (d.join("missing.gltf"), d.join("missing.png"));
+    let out = d.join("mat");
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        (vec!["--scene", s(&scene), "--image", s(&wide)], "wide.png is 80x60 but the scene camera's aspect is 1.0", "wide.png"),
+        (vec!["--scene", s(&scene), "--image", s(&transparent)], "transparent", "transparent.png"),
+        (vec!["--scene", s(&scene), "--image", s(&corner)], "misses the object", "corner.png"),
+        (vec!["--scene", s(&scene), "--image", s(&black)], "black", "black.png"),
+        (vec!["--scene", s(&scene), "--image", s(&white)], "saturated", "white.png"),
+        (vec!["--scene", s(&scene), "--image", s(&nan)], "NaN", "nan.exr"),
+        (vec!["--scene", s(&scene), "--image", s(&truncated)], "truncated", "truncated.png"),
+        (vec!["--scene", s(&scene), "--image", s(&corrupt)], "corrupt", "corrupt.png"),
+        (vec!["--scene", s(&scene), "--image", s(&good), "--scene", s(&teapot), "--image", s(&good)], "another model", "teapot.gltf"),
+        (vec!["--scene", s(&broken_scene), "--image", s(&good)], "broken.gltf", "broken.gltf"),
+        (vec!["--scene", s(&missing_scene), "--image", s(&good)], "missing.gltf", "missing.gltf"),
+        (vec!["--scene", s(&scene), "--image", s(&missing_png)], "missing.png", "missing.png"),
+        (vec!["--scene", s(&scene), "--image", s(&good), "--kind", "four-factor"], "not available yet", "four-factor"),
+        (vec!["--scene", s(&scene), "--image", s(&good), "--res", "0"], "resolution", "resolution"),
+    ];
+    for (args, reason, file) in cases {
+        let mut all = vec!["fit"];
+        all.extend(&args);
+        all.extend(["--out", s(&out)]);
+        let r = brdfpaint(&d.join("cache"), &all);
+        assert_eq!(r.code, 1, "{args:?}: {}{}", r.stdout, r.stderr);
+        assert_eq!(r.stderr.lines().count(), 1, "{args:?}: {}", r.stderr);
+        assert!(r.stderr.starts_with("error: ") && r.stderr.contains(reason) && r.stderr.contains(file), "{args:?}: {}", r.stderr);
+        assert!(r.stdout.is_empty(), "{args:?}: {}", r.stdout);
+        assert!(!out.exists(), "{args:?} wrote {}", out.display());
+    }
+    // Usage errors exit with 2.
+    for args in [
+        vec!["fit", "--scene", s(&scene), "--out", "m"],
+        vec!["fit", "--image", s(&good), "--out", "m"],
+        vec!["fit", "--scene", s(&scene), "--image", s(&good), "--scene", s(&scene), "--out", "m"],
+        vec!["fit", "--scene", s(&scene), "--image", s(&good), "--merl", "x.binary", "--out", "m"],
+        vec!["fit", "--out", "m"],
+    ] {
+        let r = brdfpaint(&d.join("cache"), &args);
+        assert_eq!(r.code, 2, "{args:?}: {}", r.stderr);
+    }
+    // The good painting does fit.
+    let r = brdfpaint(&d.join("cache"), &["fit", "--scene", s(&scene), "--image", s(&good), "--out", s(&out)]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+}
