@@ -263,7 +263,7 @@ pub struct PaintSession {
     fit: Option<Fit>,
     material: Option<Material>,
     /// Under `Mapping::Auto`, the mapping the last full solve chose; live refits keep it.
-    chosen: Option<Mapping>,
+    chosen: Option<LogMap>,
 }
 
 impl PaintSession {
@@ -429,14 +429,23 @@ impl PaintSession {
         self.pending = Some(Pending { masks, versions, settings, rx });
     }
 
-    /// The mapping of a fast refit: the user's, or under `auto` the one the last full solve
-    /// chose (offset until there was one), with constants for these values.
+    /// The mapping of a fast refit. The user's, with constants for these values; under
+    /// `auto`, the one the last full solve chose, constants and all, so a stroke moves the
+    /// material only as much as its paint does. An inverted mapping is kept only while every
+    /// value stays below its constant with the default headroom: paint brighter than that
+    /// would sit next to the singularity of $\log(a - f)$ and swing the whole fit, so those
+    /// refits use the offset mapping until the full solve at the stroke's end chooses again.
     fn live_map(&self, max: [f64; 3]) -> Result<LogMap> {
-        let m = match self.mapping {
-            Mapping::Auto => self.chosen.unwrap_or(Mapping::Offset(None)),
-            m => m,
-        };
-        Ok(m.candidates(max)?[0])
+        if self.mapping != Mapping::Auto {
+            return Ok(self.mapping.candidates(max)?[0]);
+        }
+        match self.chosen {
+            Some(LogMap::Inverted { a }) if (0..3).all(|c| max[c] * crate::factor::mapping::INVERTED_DEFAULT <= a[c]) => {
+                Ok(LogMap::Inverted { a })
+            }
+            Some(m @ (LogMap::Identity { .. } | LogMap::Offset { .. })) => Ok(m),
+            _ => Ok(Mapping::Offset(None).candidates(max)?[0]),
+        }
     }
 
     /// The refit after a stroke: values of the prepared pattern → `solve_tables` →
@@ -534,11 +543,7 @@ impl PaintSession {
             exact: true,
         };
         if self.mapping == Mapping::Auto {
-            self.chosen = Some(match fit.map {
-                LogMap::Identity { .. } => Mapping::Identity,
-                LogMap::Offset { .. } => Mapping::Offset(None),
-                LogMap::Inverted { .. } => Mapping::Inverted(None),
-            });
+            self.chosen = Some(fit.map);
         }
         self.fit = Some(fit);
         self.material = Some(material);

@@ -238,13 +238,9 @@ impl Studio {
                 let (w, h) = match start.watch.as_deref().map(Painting::read) {
                     Some(Ok(p)) => (p.width, p.height),
                     _ => {
-                        let aspect = match scene.camera.projection {
-                            crate::scene::Projection::Perspective { aspect: Some(a), .. } => a,
-                            crate::scene::Projection::Orthographic { xmag, ymag, .. } => xmag / ymag,
-                            _ => 1.0,
-                        };
+                        let aspect = crate::sample::scene::camera_aspect(&scene.camera).unwrap_or(1.0);
                         let h = start.size;
-                        (((h as f32) * aspect).round().max(1.0) as usize, h)
+                        (((h as f64) * aspect).round().max(1.0) as usize, h)
                     }
                 };
                 let view = PaintView::new(renderer, &name, scene, w, h)?;
@@ -362,7 +358,11 @@ impl Studio {
             match result {
                 Ok(Some(r)) => {
                     self.error = None;
-                    self.pending_refit = Some(r);
+                    // The stroke -> frame timing is the live path's: a full solve (every
+                    // mapping, errors) runs once when a stroke ends and is not a stroke's cost.
+                    if !full {
+                        self.pending_refit = Some(r);
+                    }
                     self.last_refit = Some(r);
                     self.live_changed();
                 }
