@@ -45,5 +45,6 @@ pub mod render;
 pub mod sample;
 pub mod scene;
 pub mod util;
+pub mod viewer;
 
 pub use error::{Error, Result};

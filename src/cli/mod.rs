@@ -6,6 +6,7 @@ mod demo;
 mod fit;
 mod render;
 mod sheet;
+mod view;
 
 use std::process::ExitCode;
 
@@ -32,6 +33,8 @@ enum Command {
     Render(render::RenderArgs),
     /// Write the coloring-book sheet to paint on: outline.png, reference.png, mask.png, scene.gltf.
     Sheet(sheet::SheetArgs),
+    /// The real-time window: a material on a model, live painting, watch mode.
+    View(Box<view::ViewArgs>),
     /// Reproduce the thesis's timing tables (5.1, 5.2) and time the GL shaders on this machine.
     Bench {
         /// Print one JSON array of cases instead of a table.
@@ -62,6 +65,7 @@ pub fn run() -> ExitCode {
         Command::Render(args) => render::run(args),
         Command::Sheet(args) => sheet::run(args),
         Command::Bench { json, quick } => bench::run(json, quick),
+        Command::View(args) => view::run(*args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,88 @@
+//! `brdfpaint view`: the real-time window, live painting and watch mode.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use crate::error::{Error, Result};
+use crate::material::Material;
+use crate::scene::{model_meshes, Scene};
+use crate::viewer::{self, Mode, Options, Start};
+
+#[derive(clap::Args)]
+pub(super) struct ViewArgs {
+    /// A material directory to show (default: the fit of the bundled example painting).
+    #[arg(value_name = "MAT")]
+    material: Option<PathBuf>,
+    /// The model to show it on: a .glb/.gltf file or a built-in name (sphere, bunny, suzanne,
+    /// teapot, apple, fox).
+    #[arg(long, value_name = "M.glb|NAME", default_value = "bunny")]
+    model: String,
+    /// Paint (or watch) a view of this scene instead of the standard views.
+    #[arg(long, value_name = "S.gltf")]
+    scene: Option<PathBuf>,
+    /// Refit whenever another program rewrites this painting of --scene.
+    #[arg(long, value_name = "P.png", requires = "scene")]
+    watch: Option<PathBuf>,
+    /// Start in paint mode.
+    #[arg(long)]
+    paint: bool,
+    /// The model the standard views show for painting.
+    #[arg(long, value_name = "NAME", default_value = "sphere")]
+    paint_model: String,
+    /// Painting size in pixels (square standard views; the height of a --scene view).
+    #[arg(long, value_name = "N", default_value_t = crate::viewer::paint::DEFAULT_SIZE)]
+    size: usize,
+    /// Window size.
+    #[arg(long, value_name = "WxH", default_value = "1280x800")]
+    window: String,
+    /// Draw this many frames, then exit (for tests and scripts).
+    #[arg(long, value_name = "N")]
+    frames: Option<u64>,
+    /// With --frames: save the window's pixels (and OUT.json with the camera and light).
+    #[arg(long, value_name = "OUT.png", requires = "frames")]
+    screenshot: Option<PathBuf>,
+    /// With --frames: keep the window open this many seconds after the last frame.
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.0, requires = "frames")]
+    hold: f64,
+}
+
+fn parse_size(s: &str) -> Result<[u32; 2]> {
+    let bad = || Error::input(format!("window size '{s}' is not WxH (e.g. 1280x800)"));
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (w.trim().parse().map_err(|_| bad())?, h.trim().parse().map_err(|_| bad())?);
+    if !(64..=16384).contains(&w) || !(64..=16384).contains(&h) {
+        return Err(Error::input(format!("window size {w}x{h} is outside 64..=16384 per side")));
+    }
+    Ok([w, h])
+}
+
+pub(super) fn run(args: ViewArgs) -> Result<()> {
+    // Everything that can fail on input is checked before a window opens.
+    let window = parse_size(&args.window)?;
+    crate::images::check_size(args.size, args.size)?;
+    if !(16..=4096).contains(&args.size) {
+        return Err(Error::input(format!("painting size {} is outside 16..=4096", args.size)));
+    }
+    let material = match &args.material {
+        Some(p) => Some((p.display().to_string(), Material::load(p)?)),
+        None => None,
+    };
+    let model = (args.model.clone(), model_meshes(&args.model)?);
+    model_meshes(&args.paint_model)?;
+    let scene = match &args.scene {
+        Some(p) => Some((p.display().to_string(), Scene::load(p)?)),
+        None => None,
+    };
+    let mode = if args.paint || args.watch.is_some() { Mode::Paint } else { Mode::View };
+    let start = Start {
+        model,
+        material,
+        scene,
+        watch: args.watch,
+        paint_model: args.paint_model,
+        size: args.size,
+        mode,
+    };
+    let hold = if args.hold.is_finite() && args.hold > 0.0 { Duration::from_secs_f64(args.hold.min(3600.0)) } else { Duration::ZERO };
+    viewer::run(Options { start, window, frames: args.frames.map(|n| n.max(1)), screenshot: args.screenshot, hold })
+}

@@ -1,0 +1,158 @@
+//! Drawing the live 3D view into a rectangle of the window, and reading the window back.
+//!
+//! The model is drawn with the factored shader into a float target (linear values, alpha 1
+//! on the object, 0 elsewhere), then copied 1:1 into the window with the sRGB transfer
+//! function applied in the shader and the background under alpha. egui then draws its panels
+//! around and over it. Doing the encoding ourselves keeps the window's pixels identical to
+//! the PNGs the tool writes, whatever sRGB support the window's framebuffer has.
+
+use glow::HasContext;
+
+use crate::error::{Error, Result};
+use crate::gl::{header, Framebuffer, Gl, Program, VertexArray};
+use crate::render::{GpuScene, GpuShading, Renderer};
+
+const BLIT_VERT: &str = r#"
+// A triangle covering the viewport; no vertex buffer.
+void main() {
+    vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+"#;
+
+const BLIT_FRAG: &str = r#"
+uniform sampler2D u_image;   // linear RGBA, the view's pixels
+uniform ivec2 u_origin;      // window pixel of the image's lower-left corner
+uniform vec3 u_background;   // sRGB-encoded
+layout(location = 0) out vec4 o_color;
+
+// The sRGB transfer function, linear to encoded (IEC 61966-2-1), after clamping to [0, 1].
+vec3 encode(vec3 x) {
+    x = clamp(x, 0.0, 1.0);
+    vec3 lo = 12.92 * x;
+    vec3 hi = 1.055 * pow(x, vec3(1.0 / 2.4)) - 0.055;
+    return mix(hi, lo, vec3(lessThanEqual(x, vec3(0.0031308))));
+}
+
+void main() {
+    // 1:1 copy: window pixel -> image texel, no filtering.
+    vec4 c = texelFetch(u_image, ivec2(gl_FragCoord.xy) - u_origin, 0);
+    o_color = vec4(mix(u_background, encode(c.rgb), clamp(c.a, 0.0, 1.0)), 1.0);
+}
+"#;
+
+/// A window rectangle in physical pixels, top-left origin.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct PixelRect {
+    pub x: i32,
+    pub y: i32,
+    pub width: i32,
+    pub height: i32,
+}
+
+/// The 3D view: its float target and the copy program.
+pub struct View3d {
+    gl: Gl,
+    target: Option<Framebuffer>,
+    blit: Program,
+    vao: VertexArray,
+    /// sRGB-encoded background, 0..1.
+    pub background: [f32; 3],
+}
+
+impl View3d {
+    pub fn new(gl: &Gl) -> Result<View3d> {
+        let head = header(gl, &[]);
+        let blit = Program::new(gl, "view blit", &format!("{head}{BLIT_VERT}"), &format!("{head}{BLIT_FRAG}"))?;
+        Ok(View3d { gl: gl.clone(), target: None, blit, vao: VertexArray::new(gl)?, background: [0.16, 0.17, 0.19] })
+    }
+
+    /// Draws `scene` with `shading` into `rect` of a window `window_height` pixels tall (the
+    /// default framebuffer, which is left bound). Without a shading, only the background.
+    pub fn draw(
+        &mut self,
+        renderer: &mut Renderer,
+        scene: &GpuScene,
+        shading: Option<&GpuShading>,
+        rect: PixelRect,
+        window_height: i32,
+    ) -> Result<()> {
+        if rect.width <= 0 || rect.height <= 0 {
+            return Ok(());
+        }
+        let (w, h) = (rect.width as usize, rect.height as usize);
+        if self.target.as_ref().is_none_or(|t| t.width() != w || t.height() != h) {
+            self.target = None;
+            self.target = Some(Framebuffer::new(&self.gl, w, h)?);
+        }
+        let target = self.target.as_ref().expect("made above");
+        let gl = &self.gl;
+        target.bind();
+        // SAFETY: state changes on the current context.
+        unsafe {
+            gl.disable(glow::SCISSOR_TEST);
+            gl.disable(glow::BLEND);
+            gl.disable(glow::CULL_FACE);
+            gl.color_mask(true, true, true, true);
+            gl.clear_color(0.0, 0.0, 0.0, 0.0);
+            gl.clear_depth_f32(1.0);
+            gl.depth_mask(true);
+            gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
+            gl.enable(glow::DEPTH_TEST);
+            gl.depth_func(glow::LESS);
+        }
+        if let Some(shading) = shading {
+            renderer.draw_factored(scene, shading, w, h)?;
+        }
+        // Copy into the window: GL's window origin is the lower-left corner.
+        let origin_y = window_height - (rect.y + rect.height);
+        // SAFETY: state changes on the current context; the default framebuffer is 0.
+        unsafe {
+            gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+            gl.viewport(rect.x, origin_y, rect.width, rect.height);
+            gl.disable(glow::DEPTH_TEST);
+            gl.disable(glow::BLEND);
+        }
+        self.blit.bind();
+        target.color().bind(0);
+        self.blit.set_i32("u_image", 0);
+        if let Some(loc) = self.blit.location("u_origin") {
+            // SAFETY: the program is bound.
+            unsafe { gl.uniform_2_i32(Some(&loc), rect.x, origin_y) };
+        }
+        self.blit.set_vec3("u_background", glam::Vec3::from_array(self.background));
+        self.vao.bind();
+        // SAFETY: a bound program and vertex array; three vertices from gl_VertexID.
+        unsafe { gl.draw_arrays(glow::TRIANGLES, 0, 3) };
+        crate::gl::check_error(gl, "3D view")
+    }
+}
+
+/// The default framebuffer's pixels, `width` × `height`, RGB 8-bit, row 0 at the top.
+pub fn read_window(gl: &Gl, width: u32, height: u32) -> Result<image::RgbImage> {
+    let (w, h) = (width as usize, height as usize);
+    let mut raw = vec![0u8; w * h * 4];
+    // SAFETY: the buffer holds w·h RGBA bytes; PACK_ALIGNMENT 4 divides the row size.
+    unsafe {
+        gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+        gl.pixel_store_i32(glow::PACK_ALIGNMENT, 4);
+        gl.read_pixels(
+            0,
+            0,
+            width as i32,
+            height as i32,
+            glow::RGBA,
+            glow::UNSIGNED_BYTE,
+            glow::PixelPackData::Slice(Some(&mut raw)),
+        );
+    }
+    crate::gl::check_error(gl, "window read-back")?;
+    let mut rgb = Vec::with_capacity(w * h * 3);
+    // glReadPixels rows come bottom-up.
+    for row in raw.chunks_exact(w * 4).rev() {
+        for px in row.chunks_exact(4) {
+            rgb.extend_from_slice(&px[..3]);
+        }
+    }
+    image::RgbImage::from_raw(width, height, rgb).ok_or_else(|| Error::Gl("window read-back size".into()))
+}

@@ -1,0 +1,229 @@
+//! The real window under Xvfb: `brdfpaint view MAT --model sphere --frames 5 --screenshot`
+//! shows the object shaded as `Material::eval` predicts under the camera and light the viewer
+//! reports, draws its egui panel, and the X server's own screenshot (xwd) shows the same
+//! window. Skipped, with a message, where `xvfb-run` is missing (CI installs it: .ci/run).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use brdfpaint::factor::{Mapping, Settings};
+use brdfpaint::gl::HeadlessContext;
+use brdfpaint::images::linear_to_srgb;
+use brdfpaint::render::{GpuScene, Renderer};
+use brdfpaint::scene::{builtin_model, Camera, Light, Projection, Scene};
+use brdfpaint::viewer::paint::{PaintSession, PaintView};
+use glam::{Mat4, Vec3};
+
+fn have(tool: &str) -> bool {
+    Command::new("sh").arg("-c").arg(format!("command -v {tool}")).output().is_ok_and(|o| o.status.success())
+}
+
+/// A material fitted to the example painting of a sphere, saved in `dir`.
+fn fitted_material(dir: &Path) -> PathBuf {
+    let ctx = HeadlessContext::new().unwrap();
+    let mut renderer = Renderer::new(ctx.gl()).unwrap();
+    let mut session = PaintSession::new(Settings::default(), Mapping::Auto);
+    let k = session.add_view(PaintView::standard(&mut renderer, "sphere", "front-left", 128).unwrap());
+    let p = brdfpaint::viewer::example_painting(&session.views[k]);
+    session.views[k].canvas.set_painting(&p).unwrap();
+    session.settle().unwrap();
+    let path = dir.join("mat");
+    session.material().unwrap().save(&path).unwrap();
+    path
+}
+
+#[derive(serde::Deserialize)]
+struct Rect {
+    x: i32,
+    y: i32,
+    width: i32,
+    height: i32,
+}
+
+#[derive(serde::Deserialize)]
+struct Info {
+    window: [u32; 2],
+    view_rect: Rect,
+    panel_rect: Rect,
+    world_from_camera: [f32; 16],
+    yfov: f32,
+    znear: f32,
+    zfar: f32,
+    light_direction: [f32; 3],
+    light_color: [f32; 3],
+    light_intensity: f32,
+    model: String,
+    background: [u8; 3],
+}
+
+/// An XWD file (X Window Dump, ZPixmap, 24/32 bits per pixel) as RGB rows.
+fn read_xwd(bytes: &[u8]) -> (usize, usize, Vec<[u8; 3]>) {
+    let u = |k: usize| u32::from_be_bytes(bytes[4 * k..4 * k + 4].try_into().unwrap());
+    let (header, format, width, height) = (u(0) as usize, u(2), u(4) as usize, u(5) as usize);
+    let (byte_order, bpp, bytes_per_line) = (u(7), u(11) as usize, u(12) as usize);
+    let masks = [u(14), u(15), u(16)];
+    let ncolors = u(19) as usize;
+    assert_eq!(format, 2, "ZPixmap");
+    assert!(bpp == 32 || bpp == 24, "{bpp} bits per pixel");
+    let data = &bytes[header + 12 * ncolors..];
+    let step = bpp / 8;
+    let mut out = Vec::with_capacity(width * height);
+    for j in 0..height {
+        for i in 0..width {
+            let at = j * bytes_per_line + i * step;
+            let mut raw = [0u8; 4];
+            raw[..step].copy_from_slice(&data[at..at + step]);
+            let p = if byte_order == 0 { u32::from_le_bytes(raw) } else { u32::from_be_bytes(raw) >> (8 * (4 - step)) };
+            out.push(masks.map(|m| ((p & m) >> m.trailing_zeros()) as u8));
+        }
+    }
+    (width, height, out)
+}
+
+#[test]
+fn the_window_shows_the_material_as_evaluated_on_the_cpu() {
+    if !have("xvfb-run") {
+        eprintln!("SKIPPED the_window_shows_the_material_as_evaluated_on_the_cpu: xvfb-run is not installed (apt-get install xvfb xauth; .ci/run does)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let material_path = fitted_material(dir.path());
+    let material = brdfpaint::material::Material::load(&material_path).unwrap();
+    let shot = dir.path().join("shot.png");
+    let xwd = dir.path().join("screen.xwd");
+    let take_xwd = have("xwd");
+    // The viewer holds its window for a while after the screenshot; the X server's own
+    // screenshot is taken then.
+    let script = format!(
+        "'{bin}' view '{mat}' --model sphere --window 1024x640 --frames 5 --screenshot '{shot}' --hold {hold} & pid=$!\n\
+         for i in $(seq 600); do [ -f '{json}' ] && break; sleep 0.1; done\n\
+         sleep 1\n\
+         {xwd}\n\
+         wait $pid",
+        bin = env!("CARGO_BIN_EXE_brdfpaint"),
+        mat = material_path.display(),
+        shot = shot.display(),
+        json = shot.with_extension("json").display(),
+        hold = if take_xwd { 4 } else { 0 },
+        xwd = if take_xwd { format!("xwd -root -silent > '{}'", xwd.display()) } else { String::new() },
+    );
+    let out = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
+        .env("WINIT_X11_SCALE_FACTOR", "1")
+        .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success() && shot.exists(),
+        "viewer under xvfb-run failed: {}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let info: Info = serde_json::from_slice(&std::fs::read(shot.with_extension("json")).unwrap()).unwrap();
+    let image = image::open(&shot).unwrap().into_rgb8();
+    assert_eq!([image.width(), image.height()], info.window);
+    assert_eq!(info.window, [1024, 640], "the window has the size asked for");
+    let px = |x: i32, y: i32| image.get_pixel(x as u32, y as u32).0;
+    let r = &info.view_rect;
+    assert!(r.width > 200 && r.height > 200, "the 3D view has room");
+
+    // The egui panel is drawn: its region differs from the 3D view's background and has
+    // text (many distinct colours).
+    let p = &info.panel_rect;
+    assert!(p.width > 100 && p.height > 300, "panel {}x{}", p.width, p.height);
+    let mut colours = std::collections::HashSet::new();
+    let mut differs = 0;
+    for y in (p.y..p.y + p.height).step_by(3) {
+        for x in (p.x..p.x + p.width).step_by(3) {
+            let c = px(x, y);
+            colours.insert(c);
+            differs += (c != info.background) as usize;
+        }
+    }
+    assert!(colours.len() > 20, "the panel shows widgets and text: {} colours", colours.len());
+    assert!(differs > 1000, "the panel is not the view's background");
+
+    // The object: G-buffer of the same camera and light, headless, at the view's size.
+    let camera = Camera {
+        world_from_camera: Mat4::from_cols_array(&info.world_from_camera),
+        projection: Projection::Perspective {
+            yfov: info.yfov,
+            aspect: None,
+            znear: info.znear,
+            zfar: Some(info.zfar),
+        },
+    };
+    let light = Light::Directional {
+        direction: Vec3::from_array(info.light_direction),
+        color: Vec3::from_array(info.light_color),
+        intensity: info.light_intensity,
+    };
+    assert_eq!(info.model, "sphere");
+    let scene = Scene { meshes: builtin_model("sphere").unwrap(), camera, light };
+    let ctx = HeadlessContext::new().unwrap();
+    let mut renderer = Renderer::new(ctx.gl()).unwrap();
+    let gpu = GpuScene::upload(ctx.gl(), &scene).unwrap();
+    let (w, h) = (r.width as usize, r.height as usize);
+    let g = renderer.gbuffer(&gpu, w, h).unwrap();
+    let covered = g.coverage();
+    assert!(covered > w * h / 20, "the sphere covers {covered} of {} pixels", w * h);
+    let mut visible = 0;
+    for j in 0..h {
+        for i in 0..w {
+            if g.at(i, j).hit && px(r.x + i as i32, r.y + j as i32) != info.background {
+                visible += 1;
+            }
+        }
+    }
+    assert!(visible as f64 > 0.98 * covered as f64, "object pixels differ from the background: {visible} of {covered}");
+    let rgb = Vec3::from_array(info.light_color) * info.light_intensity;
+    let (mut checked, mut close, mut worst) = (0, 0, (0, String::new()));
+    for j in (4..h - 4).step_by(7) {
+        for i in (4..w - 4).step_by(7) {
+            let inner = (-2..=2).all(|dj: i32| (-2..=2).all(|di: i32| g.at((i as i32 + di) as usize, (j as i32 + dj) as usize).hit));
+            let Some(q) = inner.then(|| g.at(i, j).query()).flatten() else { continue };
+            let s = material.eval(&q);
+            let want = [0, 1, 2].map(|c| (linear_to_srgb((s[c] as f32) * rgb[c] * g.at(i, j).falloff) * 255.0 + 0.5) as i32);
+            let got = px(r.x + i as i32, r.y + j as i32);
+            let err = (0..3).map(|c| (want[c] - got[c] as i32).abs()).max().unwrap();
+            checked += 1;
+            if err <= 3 {
+                close += 1;
+            }
+            if err > worst.0 {
+                worst = (err, format!("pixel ({i}, {j}): window {got:?}, Material::eval {want:?}"));
+            }
+        }
+    }
+    assert!(checked > 200, "{checked} pixels checked");
+    // The light indicator and the label are drawn over the view: a few pixels may differ.
+    assert!(close as f64 >= 0.97 * checked as f64, "{close} of {checked} pixels within 3 codes; worst {}", worst.1);
+
+    // The X server's screenshot shows the same window.
+    if !take_xwd {
+        eprintln!("xwd is not installed (apt-get install x11-apps): the X screenshot check was skipped");
+        return;
+    }
+    let (sw, sh, screen) = read_xwd(&std::fs::read(&xwd).unwrap());
+    let (ww, wh) = (image.width() as usize, image.height() as usize);
+    assert!(sw >= ww && sh >= wh, "screen {sw}x{sh}, window {ww}x{wh}");
+    // Without a window manager the window sits at the origin; look around it anyway.
+    let probe: Vec<(usize, usize)> = (0..400).map(|k| ((k * 7919) % ww, (k * 104_729) % wh)).collect();
+    let mut best = (0, (0, 0));
+    for oy in 0..=(sh - wh).min(64) {
+        for ox in 0..=(sw - ww).min(64) {
+            let hits = probe
+                .iter()
+                .filter(|&&(x, y)| {
+                    let a = screen[(oy + y) * sw + ox + x];
+                    let b = image.get_pixel(x as u32, y as u32).0;
+                    (0..3).all(|c| (a[c] as i32 - b[c] as i32).abs() <= 2)
+                })
+                .count();
+            if hits > best.0 {
+                best = (hits, (ox, oy));
+            }
+        }
+    }
+    assert!(best.0 >= 390, "the X screenshot shows the window's pixels: {} of 400 at {:?}", best.0, best.1);
+}
