@@ -292,3 +292,20 @@ pub fn material_map_cases(quick: bool) -> Result<Vec<Case>> {
     }
     Ok(out)
 }
+
+/// The live-paint loop of `brdfpaint view` (thesis 4.1), headless: strokes on a 512² painting
+/// of the bunny, each followed by the viewer's own refit (painted colours → values → solve →
+/// material → texture upload → a frame drawn to `glFinish`). `time_s` is the median stroke →
+/// frame time; it must fit in one 60 Hz frame (16.7 ms).
+pub fn live_paint_case(quick: bool) -> Result<Case> {
+    let strokes = if quick { 10 } else { 60 };
+    let t = crate::viewer::paint::measure_stroke_to_frame("bunny", 512, strokes)?;
+    Ok(Case {
+        case: "live paint stroke -> frame, bunny 512x512".into(),
+        samples: Some(t.samples),
+        res: Some(t.size),
+        unknowns: Some(t.unknowns),
+        time_s: Some(t.total_ms / 1e3),
+        ..Default::default()
+    })
+}

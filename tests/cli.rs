@@ -78,12 +78,15 @@ fn bench_json_has_the_documented_fields() {
     let cases: Vec<serde_json::Value> = serde_json::from_str(&stdout).expect("one JSON array");
     // Table 5.1: 4 resolutions x (3-factor, 4-factor); Table 5.2: 2 x 3 sample counts + 4;
     // Table 5.3: 4 term counts x 2 resolutions; GL: factored (1D, 2D) against GGX at 512²
-    // and 1024².
-    assert_eq!(cases.len(), 30);
+    // and 1024²; the live-paint stroke -> frame case.
+    assert_eq!(cases.len(), 31);
     let name = |c: &&serde_json::Value| c["case"].as_str().unwrap().to_string();
     let (maps, rest): (Vec<_>, Vec<_>) = cases.iter().partition(|c| name(c).starts_with("table5.3"));
-    let (factor, gl): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("table"));
+    let (factor, rest): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("table"));
+    let (live, gl): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("live paint"));
     assert_eq!(gl.len(), 4);
+    assert_eq!(live.len(), 1);
+    assert!(live[0]["time_s"].as_f64().unwrap() > 0.0 && live[0]["samples"].as_u64().unwrap() > 10_000, "{}", live[0]);
     assert_eq!(maps.len(), 8);
     for c in &maps {
         assert!(c["terms"].as_u64().unwrap() >= 5 && c["time_s"].as_f64().unwrap() > 0.0, "{c}");

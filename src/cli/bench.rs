@@ -13,10 +13,18 @@ pub(super) fn run(json: bool, quick: bool) -> Result<()> {
             None
         }
     };
+    let live = match crate::bench::live_paint_case(quick) {
+        Ok(c) => Some(c),
+        Err(e) => {
+            eprintln!("warning: live-paint case skipped: {e}");
+            None
+        }
+    };
     if json {
         if let Some((gl_cases, _)) = &gl {
             cases.extend(gl_cases.iter().cloned());
         }
+        cases.extend(live.clone());
         println!("{}", serde_json::to_string_pretty(&cases).map_err(|e| Error::input(e.to_string()))?);
     } else {
         print!("{}", crate::bench::table(&cases));
@@ -25,6 +33,15 @@ pub(super) fn run(json: bool, quick: bool) -> Result<()> {
             println!();
             print!("{}", crate::bench::gl_table(gl_cases));
             println!("median frame times (clear, draw, glFinish), factored and GGX interleaved, on {device}");
+        }
+        if let Some(c) = &live {
+            println!();
+            println!(
+                "{}: {} samples, {:.2} ms stroke -> frame (median; one 60 Hz frame is 16.7 ms)",
+                c.case,
+                c.samples.unwrap_or(0),
+                c.time_s.unwrap_or(0.0) * 1e3
+            );
         }
     }
     Ok(())
