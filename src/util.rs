@@ -86,3 +86,20 @@ pub fn clear_upper_vector_state() {
 unsafe fn zeroupper() {
     std::arch::x86_64::_mm256_zeroupper();
 }
+
+/// Replace the directory `dir` by the finished directory `tmp` (a sibling, same file
+/// system): `dir` is moved aside, `tmp` renamed into place, and the old one removed; if the
+/// second rename fails, `dir` is put back. A missing `dir` is simply created by the rename.
+pub fn swap_dir(tmp: &Path, dir: &Path) -> Result<()> {
+    if !dir.exists() {
+        return std::fs::rename(tmp, dir).map_err(|e| Error::io(dir, e));
+    }
+    let old = temp_sibling(dir);
+    std::fs::rename(dir, &old).map_err(|e| Error::io(dir, e))?;
+    if let Err(e) = std::fs::rename(tmp, dir) {
+        let _ = std::fs::rename(&old, dir);
+        return Err(Error::io(dir, e));
+    }
+    let _ = std::fs::remove_dir_all(&old);
+    Ok(())
+}

@@ -171,16 +171,7 @@ fn commit(tmp: &Path, dir: &Path, expected: Target) -> Result<()> {
             }
             std::fs::rename(tmp, dir).map_err(|e| Error::io(dir, e))
         }
-        Target::Demo => {
-            let old = crate::util::temp_sibling(dir);
-            std::fs::rename(dir, &old).map_err(|e| Error::io(dir, e))?;
-            if let Err(e) = std::fs::rename(tmp, dir) {
-                let _ = std::fs::rename(&old, dir);
-                return Err(Error::io(dir, e));
-            }
-            let _ = std::fs::remove_dir_all(&old);
-            Ok(())
-        }
+        Target::Demo => crate::util::swap_dir(tmp, dir),
     }
 }
 

@@ -222,14 +222,7 @@ fn replace_dir(tmp: &Path, dir: &Path) -> Result<()> {
                 dir.display()
             )));
         }
-        let old = crate::util::temp_sibling(dir);
-        std::fs::rename(dir, &old).map_err(|e| Error::io(dir, e))?;
-        if let Err(e) = std::fs::rename(tmp, dir) {
-            let _ = std::fs::rename(&old, dir);
-            return Err(Error::io(dir, e));
-        }
-        let _ = std::fs::remove_dir_all(&old);
-        Ok(())
+        crate::util::swap_dir(tmp, dir)
     } else {
         if let Some(parent) = dir.parent().filter(|p| !p.as_os_str().is_empty()) {
             std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
