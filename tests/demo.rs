@@ -2,7 +2,6 @@
 //! the same one (shared by the tests below), and once into a directory it must refuse.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::sync::OnceLock;
 
 use brdfpaint::brdf::Analytic;
@@ -13,25 +12,9 @@ use brdfpaint::material::Material;
 use brdfpaint::sample::fidelity::{held_out_error, held_out_presets, StudyView};
 use brdfpaint::sample::SceneSampler;
 
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
+mod cli_common;
 
-fn brdfpaint(cache: &Path, args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_brdfpaint"))
-        .args(args)
-        .env("BRDFPAINT_CACHE", cache)
-        .env("LIBGL_ALWAYS_SOFTWARE", "1")
-        .output()
-        .expect("run brdfpaint");
-    Run {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into(),
-        stderr: String::from_utf8_lossy(&out.stderr).into(),
-    }
-}
+use cli_common::{brdfpaint, Run};
 
 /// Two runs of the demo into the same directory, with an empty prepare cache before the first.
 struct Runs {

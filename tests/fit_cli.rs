@@ -3,7 +3,6 @@
 //! bad input (one line on stderr naming the file, exit 1, nothing written).
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use brdfpaint::brdf::Analytic;
 use brdfpaint::images::{Painting, Rgb};
@@ -12,25 +11,9 @@ use brdfpaint::sample::{Erosion, SceneSampler};
 use brdfpaint::scene::{frame, sphere_mesh, Light, Preset, Scene};
 use glam::Vec3;
 
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
+mod cli_common;
 
-fn brdfpaint(cache: &Path, args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_brdfpaint"))
-        .args(args)
-        .env("BRDFPAINT_CACHE", cache)
-        .env("LIBGL_ALWAYS_SOFTWARE", "1")
-        .output()
-        .expect("run brdfpaint");
-    Run {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into(),
-        stderr: String::from_utf8_lossy(&out.stderr).into(),
-    }
-}
+use cli_common::brdfpaint;
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
@@ -51,6 +34,11 @@ fn write_scene(dir: &Path, name: &str, preset: &Preset, intensity: f32) -> PathB
 /// front-facing pixel, black elsewhere. `.png` gives an 8-bit sRGB PNG (what a paint
 /// program saves), `.exr` linear float.
 fn paint(scene: &Path, model: &Analytic, size: usize, out: &Path) -> Painting {
+    paint_with(scene, size, out, |q| model.shading(q.l, q.v))
+}
+
+/// Paint the shading `shade` gives at each pixel's query, times the light.
+fn paint_with(scene: &Path, size: usize, out: &Path, shade: impl Fn(&brdfpaint::factor::Query) -> [f64; 3]) -> Painting {
     let scene = Scene::load(scene).unwrap();
     let mut sampler = SceneSampler::new().unwrap();
     let g = sampler.geometry(&scene, size, size, Erosion::NONE).unwrap();
@@ -59,7 +47,7 @@ fn paint(scene: &Path, model: &Analytic, size: usize, out: &Path) -> Painting {
         .iter()
         .map(|p| {
             p.map_or([0.0; 3], |p| {
-                let v = model.shading(p.query.l, p.query.v);
+                let v = shade(&p.query);
                 [0, 1, 2].map(|c| (v[c] * p.light[c]) as f32)
             })
         })
@@ -230,21 +218,10 @@ fn bad_input_is_one_line_naming_the_file_and_writes_nothing() {
 /// A painting whose albedo varies over the surface: `model` times a brightness that steps
 /// between 1 and 0.4 in bands of u (a known albedo texture), at EXR precision.
 fn paint_banded(scene: &Path, model: &Analytic, size: usize, out: &Path) {
-    let scene = Scene::load(scene).unwrap();
-    let mut sampler = SceneSampler::new().unwrap();
-    let g = sampler.geometry(&scene, size, size, Erosion::NONE).unwrap();
-    let pixels: Vec<[f32; 3]> = g
-        .pixels
-        .iter()
-        .map(|p| {
-            p.map_or([0.0; 3], |p| {
-                let albedo = if (p.query.uv.x * 6.0).floor() as i64 % 2 == 0 { 1.0 } else { 0.4 };
-                let v = model.shading(p.query.l, p.query.v);
-                [0, 1, 2].map(|c| (albedo * v[c] * p.light[c]) as f32)
-            })
-        })
-        .collect();
-    Painting::opaque(size, size, pixels).unwrap().write(out).unwrap();
+    paint_with(scene, size, out, |q| {
+        let albedo = if (q.uv.x * 6.0).floor() as i64 % 2 == 0 { 1.0 } else { 0.4 };
+        model.shading(q.l, q.v).map(|v| albedo * v)
+    });
 }
 
 #[test]

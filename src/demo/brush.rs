@@ -185,27 +185,35 @@ pub fn strokes(brush: &Brush, object: &[bool], width: usize, height: usize) -> (
     (colour, gaps)
 }
 
+/// Calls `f(pixel index, coverage, side)` for every pixel centre of a `width` × `height`
+/// image (row 0 at the top) that `stroke` covers.
+fn for_each_covered(stroke: &Stroke, width: usize, height: usize, mut f: impl FnMut(usize, f64, f64)) {
+    let line = stroke.polyline();
+    let (lo, hi) = stroke.bounds();
+    let (i0, j0) = (lo.x.floor().max(0.0) as usize, lo.y.floor().max(0.0) as usize);
+    let (i1, j1) = ((hi.x.ceil().max(0.0) as usize).min(width), (hi.y.ceil().max(0.0) as usize).min(height));
+    for j in j0..j1 {
+        for i in i0..i1 {
+            let p = DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
+            if let Some((w, side)) = stroke.coverage(p, &line) {
+                f(j * width + i, w, side);
+            }
+        }
+    }
+}
+
 /// The multiplicative gain field of `strokes` over a `width` × `height` image (row 0 at the
 /// top), starting from 1.
 pub fn gain_field(strokes: &[Stroke], width: usize, height: usize) -> Vec<[f64; 3]> {
     let mut m = vec![[1.0; 3]; width * height];
     for s in strokes {
-        let line = s.polyline();
-        let (lo, hi) = s.bounds();
-        let (i0, j0) = (lo.x.floor().max(0.0) as usize, lo.y.floor().max(0.0) as usize);
-        let (i1, j1) = ((hi.x.ceil().max(0.0) as usize).min(width), (hi.y.ceil().max(0.0) as usize).min(height));
-        for j in j0..j1 {
-            for i in i0..i1 {
-                let p = DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
-                let Some((w, side)) = s.coverage(p, &line) else { continue };
-                // Bristle lines: ±1.5% ripples across the stroke, about 2 px apart.
-                let bristle = 1.0 + 0.015 * (side * 3.1 + s.phase).sin();
-                let px = &mut m[j * width + i];
-                for (x, g) in px.iter_mut().zip(s.gain) {
-                    *x = (1.0 - w) * *x + w * g * bristle;
-                }
+        for_each_covered(s, width, height, |k, w, side| {
+            // Bristle lines: ±1.5% ripples across the stroke, about 2 px apart.
+            let bristle = 1.0 + 0.015 * (side * 3.1 + s.phase).sin();
+            for (x, g) in m[k].iter_mut().zip(s.gain) {
+                *x = (1.0 - w) * *x + w * g * bristle;
             }
-        }
+        });
     }
     m
 }
@@ -214,18 +222,11 @@ pub fn gain_field(strokes: &[Stroke], width: usize, height: usize) -> Vec<[f64; 
 pub fn gap_mask(gaps: &[Stroke], width: usize, height: usize) -> Vec<bool> {
     let mut out = vec![false; width * height];
     for s in gaps {
-        let line = s.polyline();
-        let (lo, hi) = s.bounds();
-        let (i0, j0) = (lo.x.floor().max(0.0) as usize, lo.y.floor().max(0.0) as usize);
-        let (i1, j1) = ((hi.x.ceil().max(0.0) as usize).min(width), (hi.y.ceil().max(0.0) as usize).min(height));
-        for j in j0..j1 {
-            for i in i0..i1 {
-                let p = DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
-                if s.coverage(p, &line).is_some_and(|(w, _)| w > 0.5) {
-                    out[j * width + i] = true;
-                }
+        for_each_covered(s, width, height, |k, w, _| {
+            if w > 0.5 {
+                out[k] = true;
             }
-        }
+        });
     }
     out
 }

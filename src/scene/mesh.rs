@@ -269,19 +269,21 @@ mod tests {
     use super::*;
     use glam::Vec2;
 
+    /// The faces of [`split_cube`]: outward normal and the in-face axes u and v.
+    const CUBE_FACES: [(Vec3, Vec3, Vec3); 6] = [
+        (Vec3::X, Vec3::Y, Vec3::Z),
+        (Vec3::NEG_X, Vec3::Z, Vec3::Y),
+        (Vec3::Y, Vec3::Z, Vec3::X),
+        (Vec3::NEG_Y, Vec3::X, Vec3::Z),
+        (Vec3::Z, Vec3::X, Vec3::Y),
+        (Vec3::NEG_Z, Vec3::Y, Vec3::X),
+    ];
+
     /// A unit cube with 24 split vertices (4 per face), CCW outward, without normals.
     pub(crate) fn split_cube() -> CpuMesh {
         let mut m = CpuMesh::default();
-        let faces = [
-            (Vec3::X, Vec3::Y, Vec3::Z),
-            (-Vec3::X, Vec3::Z, Vec3::Y),
-            (Vec3::Y, Vec3::Z, Vec3::X),
-            (-Vec3::Y, Vec3::X, Vec3::Z),
-            (Vec3::Z, Vec3::X, Vec3::Y),
-            (-Vec3::Z, Vec3::Y, Vec3::X),
-        ];
         let mut uvs = Vec::new();
-        for (n, u, v) in faces {
+        for (n, u, v) in CUBE_FACES {
             let base = m.positions.len() as u32;
             for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
                 m.positions.push(n + a * u + b * v);
@@ -373,17 +375,9 @@ mod tests {
         assert_eq!(t.len(), cube.positions.len());
         // Face k of `split_cube` has axes (n, u, v), 4 vertices each, position n + a u + b v and
         // uv (0.5 + 0.5 a, 0.5 + 0.5 b): texture u runs along the face's u axis.
-        let axes = [
-            (Vec3::X, Vec3::Y, Vec3::Z),
-            (-Vec3::X, Vec3::Z, Vec3::Y),
-            (Vec3::Y, Vec3::Z, Vec3::X),
-            (-Vec3::Y, Vec3::X, Vec3::Z),
-            (Vec3::Z, Vec3::X, Vec3::Y),
-            (-Vec3::Z, Vec3::Y, Vec3::X),
-        ];
         for (i, t) in t.iter().enumerate() {
             let n = cube.normals[i];
-            let (_, u, v) = axes[i / 4];
+            let (_, u, v) = CUBE_FACES[i / 4];
             // The face's u axis projected onto the tangent plane of the (smooth, diagonal)
             // vertex normal: MikkTSpace's tangent.
             let expected = (u - u.dot(n) * n).normalize();
