@@ -6,8 +6,10 @@ mod analytic;
 mod fits;
 mod merl;
 mod sphere;
+mod striped;
 
 pub use analytic::Analytic;
 pub use fits::{fresnel_dielectric, Abc};
 pub use merl::Merl;
 pub use sphere::{held_out_views, painted_views, relative_rms, SpherePixel, SphereView};
+pub use striped::Striped;

@@ -30,6 +30,13 @@ pub(super) enum KindArg {
     Hybrid,
 }
 
+/// Material-map fitting methods.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(super) enum MapFitArg {
+    Cluster,
+    Greedy,
+}
+
 #[derive(clap::Args)]
 #[command(group = clap::ArgGroup::new("source").required(true).multiple(true).args(["merl", "scene"]))]
 pub(super) struct FitArgs {
@@ -65,6 +72,11 @@ pub(super) struct FitArgs {
     /// Most terms of a material map or hybrid (default 5; fewer when a term stops helping).
     #[arg(long)]
     terms: Option<usize>,
+    /// How a material map or hybrid finds its terms: cluster (regions of one material each,
+    /// every term fitted to its region: generalizes to new lights and views) or greedy (the
+    /// thesis's fit on positive residuals, eqs. 4.2-4.4).
+    #[arg(long, value_enum)]
+    map_fit: Option<MapFitArg>,
     /// Laplacian smoothing weight of every factor (default: 1e-5 for 1D, 1e-4 for 2D).
     #[arg(long)]
     lambda: Option<f64>,
@@ -107,6 +119,9 @@ pub(super) fn run(args: FitArgs) -> Result<()> {
     }
     if args.terms.is_some() && matches!(args.kind, KindArg::Uniform | KindArg::FourFactor) {
         return Err(Error::input("--terms applies to the material-map and hybrid kinds"));
+    }
+    if args.map_fit.is_some() && matches!(args.kind, KindArg::Uniform | KindArg::FourFactor) {
+        return Err(Error::input("--map-fit applies to the material-map and hybrid kinds"));
     }
     if matches!(args.kind, KindArg::FourFactor | KindArg::Hybrid) {
         let four = Settings::four_factor(1, 2, args.uv_res.unwrap_or(crate::factor::defaults::RES_UV));
@@ -290,6 +305,10 @@ fn fit_map(
         terms: args.terms.unwrap_or(MapOptions::default().terms),
         coef_res: args.uv_res.unwrap_or(MapOptions::default().coef_res),
         mapping: args.mapping,
+        method: match args.map_fit {
+            Some(MapFitArg::Greedy) => map::Method::Greedy,
+            Some(MapFitArg::Cluster) | None => map::Method::Cluster,
+        },
         ..Default::default()
     };
     map::fit(prepared, &samples.pattern, &samples.values, &grids, &opts)

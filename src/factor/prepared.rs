@@ -292,8 +292,35 @@ impl Prepared {
         Ok(self.split(&y))
     }
 
+    /// Log-space tables $\tilde{\mathbf y} = \mathbf G^{-1} \mathbf A^\top \tilde{\mathbf f}$
+    /// for values already in log space: for callers that build the log-space right-hand side
+    /// themselves (the material-map clustering imputes samples outside a cluster with the
+    /// cluster's own log-space prediction, so the fit converges to the cluster's alone).
+    pub fn solve_log(&self, log_values: &[[f64; 3]]) -> Mat<f64> {
+        let mut b = vec![[0.0; 4]; self.design.n];
+        self.design.transpose_apply(log_values, &|_, _| {}, &mut b);
+        self.apply(&Mat::from_fn(self.design.n, 3, |r, c| b[r][c]))
+    }
+
+    /// The log-space model $\mathbf A \tilde{\mathbf y}$ at every sample.
+    pub fn predict_log(&self, y: &Mat<f64>) -> Vec<[f64; 3]> {
+        let d = &self.design;
+        (0..d.rows())
+            .map(|r| {
+                let mut sum = [0.0; 3];
+                for k in d.row_ptr[r] as usize..d.row_ptr[r + 1] as usize {
+                    let (c, a) = (d.row_col[k] as usize, d.row_val[k]);
+                    for (ch, s) in sum.iter_mut().enumerate() {
+                        *s += a * y[(c, ch)];
+                    }
+                }
+                sum
+            })
+            .collect()
+    }
+
     /// Split the solution vector into per-factor linear-space tables.
-    fn split(&self, y: &Mat<f64>) -> Vec<Vec<[f64; 3]>> {
+    pub fn split(&self, y: &Mat<f64>) -> Vec<Vec<[f64; 3]>> {
         self.settings
             .factors
             .iter()
