@@ -3,13 +3,17 @@
 //! 1. The coloring-book sheet of the standard scene (the built-in sphere, `front-left`, 256²)
 //!    and of a second view ([`paintings::views`]).
 //! 2. The bundled paintings ([`paintings::materials`]): analytic models and MERL fits painted
-//!    with brush noise and unpainted gaps, and a Blender MatCap.
+//!    with brush noise and unpainted gaps, a spatially varying "lacquered wood" (glossy and
+//!    matte stripes in u, [`paintings::wood`]) painted from both views, and a Blender MatCap.
 //! 3. Each material is fitted exactly as `brdfpaint fit --scene DIR/sheet/scene.gltf --image
 //!    DIR/paintings/P.png` fits it: sampled through the G-buffer, prepared through the cache
-//!    (a standard scene is prepared once, ever), solved in milliseconds. Where the truth is
-//!    known, the material is judged against it on three lights and views nobody painted.
+//!    (a standard scene is prepared once, ever), solved in milliseconds; the wood as `--kind
+//!    material-map` on the same prepared system. Where the truth is known, the material is
+//!    judged against it on three lights and views nobody painted, at each pixel's whole
+//!    query (uv included); the wood also as one uniform product, for comparison.
 //! 4. The recovered materials are rendered on the sphere they were painted on and retargeted
-//!    onto the bunny, Suzanne and the teapot under new lights ([`retargets`]).
+//!    onto the bunny, Suzanne and the teapot under new lights ([`retargets`]); those have no
+//!    uvs, and get the sphere's by spherical projection, so a material map wraps around them.
 //! 5. A contact sheet ([`contact`]) and a one-screen summary.
 //!
 //! ```text
@@ -17,8 +21,9 @@
 //! DIR/contact.png            rows = materials; painting | fit | bunny | suzanne | teapot
 //! DIR/contact-small.png      the same at half size
 //! DIR/sheet/, DIR/sheet-2/   outline.png, reference.png, mask.png, scene.gltf
-//! DIR/paintings/*.png        the bundled paintings
-//! DIR/materials/NAME/        material.json, factor EXRs, report.png
+//! DIR/paintings/*.png        the bundled paintings (wood.png, wood-2.png: the spatially varying one)
+//! DIR/materials/NAME/        material.json, factor EXRs (and coefficient textures of a
+//!                            material map: materials/lacquered-wood/), report.png
 //! DIR/renders/NAME-MODEL.png the renders of the contact sheet
 //! ```
 //!
@@ -502,6 +507,7 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
     for row in rows {
         if let (Some(m), Some(u)) = (row.held_out, row.uniform_held_out) {
             let _ = writeln!(s, "{}: held-out {m:.4} as a material map, {u:.4} as one uniform product.", row.name);
+            let _ = writeln!(s, "  (a map knows each texel under the lights it was painted in; new highlights are guesses)");
         }
     }
     let _ = writeln!(s, "A MatCap is lit by its own studio lights, not by one light: its fit can only approximate it.");

@@ -6,7 +6,8 @@
 //! ([`views`]), lit by that scene's white directional light of intensity 1:
 //! - analytic models (Blinn-Phong plastic, Gooch warm-to-cool with its unlit side painted
 //!   blue) and measured-like materials (the ABC fits of two MERL materials, [`Abc`]) are
-//!   their true shading function $S(l, v)$ at each pixel's G-buffer query, under
+//!   their true shading function $S(l, v)$ at each pixel's G-buffer query (the wood's,
+//!   [`Truth::Banded`], also depends on the query's uv), under
 //!   [`brush`](mod@super::brush) noise: soft strokes of ±5% intensity and ±3% tint, and a few
 //!   unpainted (alpha 0) gaps;
 //! - the MatCap is one of Blender's CC0 MatCaps (`toon`), a picture of a sphere seen from
