@@ -8,9 +8,11 @@ use brdfpaint::brdf::Analytic;
 use brdfpaint::demo::contact::Layout;
 use brdfpaint::demo::paintings::{self, Truth};
 use brdfpaint::images::Painting;
-use brdfpaint::material::Material;
+use brdfpaint::factor::{Mapping, Settings};
+use brdfpaint::material::{Kind, Material};
 use brdfpaint::sample::fidelity::{held_out_error, held_out_presets, StudyView};
-use brdfpaint::sample::SceneSampler;
+use brdfpaint::sample::{self, Erosion, Samples, SceneSampler};
+use glam::DVec2;
 
 mod cli_common;
 
@@ -223,4 +225,105 @@ fn bundled_paintings_are_reproducible() {
     // Some pixels are unpainted gaps on the object, not only background.
     let gaps = (0..g.pixels.len()).filter(|&k| g.pixels[k].hit && bundled.alpha[k] == 0.0).count();
     assert!(gaps > 20, "{gaps} gap pixels");
+}
+
+/// The lacquered wood: the demo's material map, and one uniform product fitted here (library
+/// code, no cache) to the same paintings in the same scenes, with its error on them.
+struct Wood {
+    map: Material,
+    uniform: Material,
+    uniform_train: f64,
+    held: Vec<StudyView>,
+}
+
+fn wood() -> &'static Wood {
+    static WOOD: OnceLock<Wood> = OnceLock::new();
+    WOOD.get_or_init(|| {
+        let d = &runs().dir;
+        let spec = paintings::materials().into_iter().find(|m| m.name == "lacquered-wood").unwrap();
+        let mut sampler = SceneSampler::new().unwrap();
+        let views: Vec<_> = spec
+            .paintings
+            .iter()
+            .map(|p| {
+                let scene = d.join(paintings::views()[p.view].dir).join("scene.gltf");
+                sampler.load_view(&scene, &d.join("paintings").join(p.file), Erosion::default()).unwrap().1
+            })
+            .collect();
+        let samples = Samples::gather(&views).unwrap();
+        let settings = Settings::uniform(1, brdfpaint::factor::defaults::RES_1D);
+        let fitted = sample::fit(&samples, &settings, Mapping::Auto, None).unwrap();
+        let uniform = Material::from_fit(&settings, &fitted.fit, Default::default()).unwrap();
+        let held = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, 128).unwrap()).collect();
+        Wood {
+            map: Material::load(&d.join("materials/lacquered-wood")).unwrap(),
+            uniform,
+            uniform_train: fitted.fit.errors.rms_relative,
+            held,
+        }
+    })
+}
+
+#[test]
+fn spatially_varying_wood_is_a_material_map_that_fits_its_paintings_better() {
+    let w = wood();
+    let summary = &runs().first.stdout;
+    assert_eq!(w.map.kind, Kind::MaterialMap);
+    assert!(w.map.terms.len() >= 2, "{} term(s)", w.map.terms.len());
+    assert_eq!(summary_row(summary, "lacquered-wood")[1], format!("map/{}", w.map.terms.len()));
+    assert_eq!(summary_row(summary, "plastic")[1], "uniform");
+    // On the painted samples the map beats one product clearly: it can give each stripe its
+    // own material (measured: relative RMS 0.279 with five terms, 0.412 uniform).
+    let map_train: f64 = column(summary, "lacquered-wood", RMS - 1).parse().unwrap();
+    assert!(map_train < 0.8 * w.uniform_train, "map {map_train} vs uniform {}", w.uniform_train);
+}
+
+#[test]
+fn spatially_varying_wood_held_out_error_is_reported_with_uv() {
+    let w = wood();
+    let summary = &runs().first.stdout;
+    let truth = paintings::wood();
+    let map = brdfpaint::demo::held_out_error(&w.map, &truth, &w.held).unwrap();
+    let uniform = brdfpaint::demo::held_out_error(&w.uniform, &truth, &w.held).unwrap();
+    let reported: f64 = column(summary, "lacquered-wood", HELD_OUT).parse().unwrap();
+    assert!((reported - map).abs() < 1e-3, "summary says {reported}, recomputed {map}");
+    let line = format!("lacquered-wood: held-out {map:.4} as a material map, {uniform:.4} as one uniform product.");
+    assert!(summary.contains(&line), "no line {line:?} in\n{summary}");
+    // The truth is evaluated at each pixel's uv, and the map has learnt where the stripes
+    // are: against the stripes swapped (lacquer where the bare wood is) it is much further
+    // off (measured 0.840 against 0.696).
+    let swapped = Truth::Banded { a: paintings::bare_wood(), b: paintings::lacquer(), bands: paintings::WOOD_BANDS };
+    let against_swapped = brdfpaint::demo::held_out_error(&w.map, &swapped, &w.held).unwrap();
+    assert!(against_swapped > map + 0.1, "against swapped stripes {against_swapped}, against the stripes {map}");
+    // Measured: 0.696 for the map, 0.545 for one uniform product. Held-out lights put
+    // highlights on stripes that no painting showed under a highlight (the lacquered stripe
+    // at azimuth 0°-45° is lit only from the side in the front-left view, and the back is
+    // painted in neither view); a per-texel coefficient cannot know that stripe is glossy,
+    // while one product spreads the average gloss everywhere. The bound catches a fit that
+    // gets worse than today's; a better map fit (a refinement step) will land below it.
+    const BOUND: f64 = 0.75;
+    assert!(map < BOUND, "held-out relative RMS {map:.4} >= {BOUND}");
+}
+
+#[test]
+fn spatially_varying_wood_coefficients_separate_the_stripes() {
+    // Mid-stripe, on the lacquered stripe 2 (azimuth -90° to -45°) and the bare stripe 3
+    // (-45° to 0°), which both paintings see, from just above the equator to it: the first
+    // term, fitted to everything, is scaled down on the dark lacquer and kept on the light
+    // bare wood. Measured mean coefficients: lacquer 0.29, 0.34, 0.45; bare 0.56, 0.56, 1.0.
+    // (The first term dominates on both stripes: the map separates them by its coefficients,
+    // not by giving each its own term. A texel is seen at one or two (l, v) only; elsewhere
+    // its shading is the terms' shapes scaled, which is why held-out lights fare worse.)
+    let w = wood();
+    let truth = paintings::wood();
+    let bands = paintings::WOOD_BANDS as f64;
+    let (lacquered, bare) = (2.5 / bands, 3.5 / bands);
+    assert_eq!(truth.band(lacquered) % 2, 0, "stripe 2 is lacquered");
+    assert_eq!(truth.band(bare) % 2, 1, "stripe 3 is bare");
+    let first = w.map.terms[0].coefficients.as_ref().expect("a material map term has coefficients");
+    let mean = |u: f64, v: f64| first.lookup(DVec2::new(u, v)).iter().sum::<f64>() / 3.0;
+    for v in [0.3, 0.4, 0.5] {
+        let (g, m) = (mean(lacquered, v), mean(bare, v));
+        assert!(g < 0.7 * m, "v = {v}: first-term coefficient {g:.3} on the lacquer, {m:.3} on the bare wood");
+    }
 }

@@ -293,14 +293,8 @@ fn fit_map(
     views: &[sample::PaintedView],
     prepared: &crate::factor::Prepared,
 ) -> Result<(Material, crate::material::map::MapReport)> {
-    use crate::material::map::{self, Grid, MapOptions};
-    let mut grids: Vec<Grid> = views
-        .iter()
-        .map(|v| Grid { width: v.geometry.width, height: v.geometry.height, sample: vec![None; v.geometry.width * v.geometry.height] })
-        .collect();
-    for (k, &(view, pixel)) in samples.origin.iter().enumerate() {
-        grids[view].sample[pixel] = Some(k as u32);
-    }
+    use crate::material::map::{self, MapOptions};
+    let grids = samples.grids(views);
     let opts = MapOptions {
         terms: args.terms.unwrap_or(MapOptions::default().terms),
         coef_res: args.uv_res.unwrap_or(MapOptions::default().coef_res),

@@ -3,13 +3,17 @@
 //! 1. The coloring-book sheet of the standard scene (the built-in sphere, `front-left`, 256²)
 //!    and of a second view ([`paintings::views`]).
 //! 2. The bundled paintings ([`paintings::materials`]): analytic models and MERL fits painted
-//!    with brush noise and unpainted gaps, and a Blender MatCap.
+//!    with brush noise and unpainted gaps, a spatially varying "lacquered wood" (glossy and
+//!    matte stripes in u, [`paintings::wood`]) painted from both views, and a Blender MatCap.
 //! 3. Each material is fitted exactly as `brdfpaint fit --scene DIR/sheet/scene.gltf --image
 //!    DIR/paintings/P.png` fits it: sampled through the G-buffer, prepared through the cache
-//!    (a standard scene is prepared once, ever), solved in milliseconds. Where the truth is
-//!    known, the material is judged against it on three lights and views nobody painted.
+//!    (a standard scene is prepared once, ever), solved in milliseconds; the wood as `--kind
+//!    material-map` on the same prepared system. Where the truth is known, the material is
+//!    judged against it on three lights and views nobody painted, at each pixel's whole
+//!    query (uv included); the wood also as one uniform product, for comparison.
 //! 4. The recovered materials are rendered on the sphere they were painted on and retargeted
-//!    onto the bunny, Suzanne and the teapot under new lights ([`retargets`]).
+//!    onto the bunny, Suzanne and the teapot under new lights ([`retargets`]); those have no
+//!    uvs, and get the sphere's by spherical projection, so a material map wraps around them.
 //! 5. A contact sheet ([`contact`]) and a one-screen summary.
 //!
 //! ```text
@@ -17,8 +21,9 @@
 //! DIR/contact.png            rows = materials; painting | fit | bunny | suzanne | teapot
 //! DIR/contact-small.png      the same at half size
 //! DIR/sheet/, DIR/sheet-2/   outline.png, reference.png, mask.png, scene.gltf
-//! DIR/paintings/*.png        the bundled paintings
-//! DIR/materials/NAME/        material.json, factor EXRs, report.png
+//! DIR/paintings/*.png        the bundled paintings (wood.png, wood-2.png: the spatially varying one)
+//! DIR/materials/NAME/        material.json, factor EXRs (and coefficient textures of a
+//!                            material map: materials/lacquered-wood/), report.png
 //! DIR/renders/NAME-MODEL.png the renders of the contact sheet
 //! ```
 //!
@@ -37,13 +42,14 @@ use crate::error::{Error, Result};
 use crate::factor::cache::{Cache, Outcome};
 use crate::factor::{defaults, Errors, Mapping, Settings};
 use crate::images::Painting;
-use crate::material::{Material, Provenance};
+use crate::material::map::{self, MapOptions};
+use crate::material::{Kind, Material, Provenance};
 use crate::render::{GpuScene, Image, Shading, Sheet};
 use crate::sample::fidelity::{held_out_presets, StudyView};
 use crate::sample::scene::geometry_from_gbuffer;
 use crate::sample::{self, check_same_model, report, Erosion, PaintedView, Samples, SceneSampler};
 use crate::scene::{builtin_model, frame, Light, Preset, Scene};
-use paintings::{MaterialSpec, Truth, SIZE};
+use paintings::{FitKind, MaterialSpec, Truth, SIZE};
 
 /// Where `brdfpaint demo` writes by default.
 pub const DEFAULT_DIR: &str = "demo-out";
@@ -87,6 +93,8 @@ pub struct Row {
     /// Views fitted together.
     pub views: usize,
     pub samples: usize,
+    /// `uniform`, or `map/N` for a material map of N terms.
+    pub kind: String,
     /// Seconds to prepare (or load from the cache) and to solve.
     pub prepare_s: f64,
     pub solve_s: f64,
@@ -95,6 +103,9 @@ pub struct Row {
     pub errors: Errors,
     /// Relative RMS against the true shading on the held-out views, where it is known.
     pub held_out: Option<f64>,
+    /// For a material map: the same held-out error of one uniform product fitted to the same
+    /// paintings (what the map gains by varying over the surface).
+    pub uniform_held_out: Option<f64>,
 }
 
 impl Row {
@@ -241,9 +252,15 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
         held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, HELD_OUT_SIZE)).collect::<Result<_>>()?;
     let mut rows = Vec::new();
     for (spec, f) in specs.iter().zip(&fitted) {
-        let held_out =
-            if spec.truth.is_known() { Some(held_out_error(&f.material, &spec.truth, &held)?) } else { None };
-        rows.push(Row { held_out, ..f.row.clone() });
+        let judge = |m: &Material| -> Result<Option<f64>> {
+            if spec.truth.is_known() { held_out_error(m, &spec.truth, &held).map(Some) } else { Ok(None) }
+        };
+        let held_out = judge(&f.material)?;
+        let uniform_held_out = match &f.uniform {
+            Some(u) => judge(u)?,
+            None => None,
+        };
+        rows.push(Row { held_out, uniform_held_out, ..f.row.clone() });
     }
     stages.held_out = t.elapsed().as_secs_f64();
 
@@ -253,7 +270,7 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
     std::fs::create_dir_all(&renders_dir).map_err(|e| Error::io(&renders_dir, e))?;
     let mut scenes: Vec<(&str, Scene)> = vec![("sphere", Scene::load(&scene_paths[0])?)];
     for r in retargets() {
-        scenes.push((r.model, frame(builtin_model(r.model)?, &r.preset, 1.0)));
+        scenes.push((r.model, frame(with_uvs(builtin_model(r.model)?), &r.preset, 1.0)));
     }
     let renderer = sampler.renderer();
     let gpu_scenes: Vec<GpuScene> =
@@ -294,6 +311,8 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
 /// A fitted material and what the summary says about it.
 struct Fitted {
     material: Material,
+    /// For a material map: the uniform product of the same samples, for comparison.
+    uniform: Option<Material>,
     views: Vec<PaintedView>,
     row: Row,
 }
@@ -344,26 +363,71 @@ fn fit_material(
         prepare_s: fitted.prepare_s,
         solve_s: fitted.solve_s,
     };
-    let material = Material::from_fit(settings, &fitted.fit, provenance)?;
+    let uniform = Material::from_fit(settings, &fitted.fit, provenance.clone())?;
+    // `brdfpaint fit --kind material-map`: the terms are fitted on the system prepared (and
+    // cached) for the uniform fit, with the painted pixel grids filling texture gaps.
+    let (material, uniform, errors, solve_s) = match spec.kind {
+        FitKind::Uniform => (uniform, None, fitted.fit.errors, fitted.solve_s),
+        FitKind::MaterialMap { terms } => {
+            let opts = MapOptions { terms, ..Default::default() };
+            let grids = samples.grids(&views);
+            let (mut m, report) = map::fit(&fitted.prepared, &samples.pattern, &samples.values, &grids, &opts)?;
+            let errors = report.errors.last().copied().unwrap_or(fitted.fit.errors);
+            m.provenance = Provenance { errors: Some(errors), solve_s: report.seconds, ..provenance };
+            (m, Some(uniform), errors, report.seconds)
+        }
+    };
     let out = tmp.join("materials").join(spec.name);
     material.save(&out)?;
     report::image(&views, &material)?.write_png(&out.join("report.png"))?;
+    let kind = match material.kind {
+        Kind::MaterialMap | Kind::Hybrid => format!("map/{}", material.terms.len()),
+        Kind::Uniform | Kind::FourFactor => "uniform".to_string(),
+    };
     let row = Row {
         name: spec.name.to_string(),
         description: spec.truth.describe(),
         views: views.len(),
         samples: samples.len(),
+        kind,
         prepare_s: fitted.prepare_s,
-        solve_s: fitted.solve_s,
+        solve_s,
         outcome: fitted.outcome,
-        errors: fitted.fit.errors,
+        errors,
         held_out: None,
+        uniform_held_out: None,
     };
-    Ok(Fitted { material, views, row })
+    Ok(Fitted { material, uniform, views, row })
+}
+
+/// `meshes` with texture coordinates where they have none: the built-in sphere's $(u, v)$
+/// (`sphere_mesh`: $u = \mathrm{atan2}(x, z)/2\pi + \tfrac12$, $v = \arccos y/\pi$) of the
+/// direction from the model's centre, so that a material map painted on the sphere wraps
+/// around a retargeted model as it wrapped around the sphere. Meshes without uvs would
+/// otherwise read every coefficient texture at uv = 0 (`render::Mesh::upload`): one stripe
+/// everywhere. Tangents are left as they are (none: the renderer's azimuthal fallback), so
+/// uniform materials render exactly as before.
+fn with_uvs(mut meshes: Vec<crate::scene::CpuMesh>) -> Vec<crate::scene::CpuMesh> {
+    let centre = crate::scene::BoundingSphere::of(&meshes).map_or(glam::Vec3::ZERO, |b| b.center);
+    for m in meshes.iter_mut().filter(|m| m.uvs.is_none()) {
+        let uvs = m
+            .positions
+            .iter()
+            .map(|&p| {
+                let d = (p - centre).normalize_or(glam::Vec3::Y);
+                let u = d.x.atan2(d.z) / std::f32::consts::TAU + 0.5;
+                glam::Vec2::new(u, d.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI)
+            })
+            .collect();
+        m.uvs = Some(uvs);
+    }
+    meshes
 }
 
 /// Relative RMS $\sqrt{\sum (m - t)^2 / \sum t^2}$ of `material` against the true shading
-/// function over every usable pixel of the held-out views, all channels.
+/// function over every usable pixel of the held-out views, all channels. Both are evaluated
+/// at the pixel's whole query, uv included: a spatially varying truth and a material map
+/// are compared point by point on the surface.
 pub fn held_out_error(material: &Material, truth: &Truth, held_out: &[StudyView]) -> Result<f64> {
     let white = Light::Directional { direction: -glam::Vec3::Z, color: glam::Vec3::ONE, intensity: 1.0 };
     let (mut num, mut den) = (0.0, 0.0);
@@ -371,7 +435,7 @@ pub fn held_out_error(material: &Material, truth: &Truth, held_out: &[StudyView]
         let g = geometry_from_gbuffer(&view.gbuffer, &white, true, Erosion::default())?;
         for (px, _) in g.pixels.iter().zip(&g.usable).filter(|(_, &u)| u) {
             let q = px.expect("usable pixels have geometry").query;
-            let Some(t) = truth.shading(q.l, q.v) else {
+            let Some(t) = truth.shading(&q) else {
                 return Err(Error::input("the held-out error needs a known shading function"));
             };
             let m = material.eval(&q);
@@ -406,8 +470,8 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
     let _ = writeln!(s);
     let _ = writeln!(
         s,
-        "{:<18} {:<25} {:>7} {:>8} {:>5} {:>8} {:>8} {:>6} {:>6} {:>8}",
-        "material", "painted from", "samples", "prep ms", "cache", "solve ms", "RMS", "rel", "max", "held-out"
+        "{:<18} {:<7} {:<25} {:>7} {:>8} {:>5} {:>8} {:>8} {:>6} {:>6} {:>8}",
+        "material", "kind", "painted from", "samples", "prep ms", "cache", "solve ms", "RMS", "rel", "max", "held-out"
     );
     for row in rows {
         let what = if row.views > 1 {
@@ -418,8 +482,9 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
         let held = row.held_out.map_or("-".to_string(), |h| format!("{h:.4}"));
         let _ = writeln!(
             s,
-            "{:<18} {:<25} {:>7} {:>8.1} {:>5} {:>8.2} {:>8.5} {:>6.4} {:>6.3} {:>8}",
+            "{:<18} {:<7} {:<25} {:>7} {:>8.1} {:>5} {:>8.2} {:>8.5} {:>6.4} {:>6.3} {:>8}",
             row.name,
+            row.kind,
             truncate(&what, 25),
             row.samples,
             row.prepare_s * 1e3,
@@ -438,6 +503,13 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
         "held-out: relative RMS against the true shading on {} lights and views nobody painted.",
         held_out_presets().len()
     );
+    let _ = writeln!(s, "kind: uniform, one product p(l) q(h) r(v); map/N, a material map of N products blended by uv textures.");
+    for row in rows {
+        if let (Some(m), Some(u)) = (row.held_out, row.uniform_held_out) {
+            let _ = writeln!(s, "{}: held-out {m:.4} as a material map, {u:.4} as one uniform product.", row.name);
+            let _ = writeln!(s, "  (a map knows each texel under the lights it was painted in; new highlights are guesses)");
+        }
+    }
     let _ = writeln!(s, "A MatCap is lit by its own studio lights, not by one light: its fit can only approximate it.");
     let models: Vec<String> = retargets()
         .iter()

@@ -6,7 +6,8 @@
 //! ([`views`]), lit by that scene's white directional light of intensity 1:
 //! - analytic models (Blinn-Phong plastic, Gooch warm-to-cool with its unlit side painted
 //!   blue) and measured-like materials (the ABC fits of two MERL materials, [`Abc`]) are
-//!   their true shading function $S(l, v)$ at each pixel's G-buffer query, under
+//!   their true shading function $S(l, v)$ at each pixel's G-buffer query (the wood's,
+//!   [`Truth::Banded`], also depends on the query's uv), under
 //!   [`brush`](mod@super::brush) noise: soft strokes of ±5% intensity and ±3% tint, and a few
 //!   unpainted (alpha 0) gaps;
 //! - the MatCap is one of Blender's CC0 MatCaps (`toon`), a picture of a sphere seen from
@@ -18,6 +19,7 @@ use glam::Vec3;
 use super::brush::{self, Brush};
 use crate::brdf::{Abc, Analytic};
 use crate::error::{Error, Result};
+use crate::factor::Query;
 use crate::images::{encode_srgb8, Rgb};
 use crate::render::GBuffer;
 use crate::scene::{Preset, Scene};
@@ -68,16 +70,41 @@ pub enum Truth {
     Abc { model: Abc, exposure: f64 },
     /// A MatCap: no known shading function.
     Matcap { name: &'static str },
+    /// A spatially varying material: `bands` stripes of equal width in the surface's $u$
+    /// (on the sphere, slices of azimuth), alternately `a` (from $u = 0$) and `b`.
+    Banded { a: Analytic, b: Analytic, bands: usize },
 }
 
 impl Truth {
-    /// The shading function $S(l, v)$ the painting shows, where it is known.
-    pub fn shading(&self, l: glam::DVec3, v: glam::DVec3) -> Option<[f64; 3]> {
+    /// The shading function $S(l, v; u, v)$ the painting shows at query `q`, where it is
+    /// known. Only [`Truth::Banded`] depends on the query's uv.
+    pub fn shading(&self, q: &Query) -> Option<[f64; 3]> {
+        let (l, v) = (q.l, q.v);
         match self {
             Truth::Analytic(a) => Some(a.shading(l, v)),
             Truth::Abc { model, exposure } => Some(model.shading(l, v).map(|x| x * exposure)),
             Truth::Matcap { .. } => None,
+            Truth::Banded { a, b, .. } => Some(if self.band(q.uv.x) % 2 == 0 { a } else { b }.shading(l, v)),
         }
+    }
+
+    /// The stripe $\lfloor u \cdot \text{bands} \rfloor \bmod \text{bands}$ that surface
+    /// coordinate `u` lies in (0 for the materials that have none). Stripes wrap around: $u$
+    /// and $u + 1$ are the same point of a closed surface, so $u = 1$ is stripe 0.
+    pub fn band(&self, u: f64) -> usize {
+        match *self {
+            Truth::Banded { bands, .. } if bands > 0 => {
+                let x = (u * bands as f64).floor().rem_euclid(bands as f64);
+                // A non-finite u (never from a G-buffer) falls in stripe 0.
+                if x.is_finite() { (x as usize).min(bands - 1) } else { 0 }
+            }
+            _ => 0,
+        }
+    }
+
+    /// Whether the shading varies over the surface (a material map fits it).
+    pub fn is_spatial(&self) -> bool {
+        matches!(self, Truth::Banded { .. })
     }
 
     /// Whether the shading function is known.
@@ -93,6 +120,7 @@ impl Truth {
             Truth::Analytic(a) => a.name(),
             Truth::Abc { model, .. } => format!("MERL {} (ABC)", model.name),
             Truth::Matcap { name } => format!("MatCap {name} (CC0)"),
+            Truth::Banded { bands, .. } => format!("wood, {bands} bands"),
         }
     }
 }
@@ -110,13 +138,24 @@ pub struct PaintingFile {
     pub brush_seed: Option<u64>,
 }
 
-/// A material the demo recovers: its name, what it is, and the paintings it is fitted to
-/// (one, or several views of it: thesis 4.4).
+/// How the demo fits a material: `brdfpaint fit --kind uniform` or `--kind material-map`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FitKind {
+    /// One product $p(l)\,q(h)\,r(v)$ for the whole surface.
+    Uniform,
+    /// A material map of at most `terms` products blended by coefficient textures
+    /// (thesis 4.2.2): for paintings whose material varies over the surface.
+    MaterialMap { terms: usize },
+}
+
+/// A material the demo recovers: its name, what it is, how it is fitted, and the paintings
+/// it is fitted to (one, or several views of it: thesis 4.4).
 #[derive(Clone, Debug)]
 pub struct MaterialSpec {
     /// Directory name in `DIR/materials/` and row name in the summary.
     pub name: &'static str,
     pub truth: Truth,
+    pub kind: FitKind,
     pub paintings: Vec<PaintingFile>,
 }
 
@@ -141,6 +180,28 @@ pub fn gooch() -> Analytic {
     Analytic::Gooch { warm: [0.95, 0.5, 0.1], cool: [0.06, 0.14, 0.65] }
 }
 
+/// The lacquered stripes of the wood: a dark warm glossy Blinn-Phong.
+pub fn lacquer() -> Analytic {
+    Analytic::BlinnPhong { diffuse: [0.10, 0.08, 0.05], specular: [0.4, 0.4, 0.4], exponent: 40.0 }
+}
+
+/// The bare stripes of the wood: a light brown Lambert.
+pub fn bare_wood() -> Analytic {
+    Analytic::Lambert { albedo: [0.55, 0.35, 0.15] }
+}
+
+/// The spatially varying painting: eight stripes around the sphere (45° of azimuth each),
+/// lacquered from $u = 0$, then bare, like the test object of `tests/material_map.rs`. The
+/// highlight of the front-left view falls on a bare stripe (azimuth -45° to 0°), that of
+/// the second view on a lacquered one (-90° to -45°): together they show how each material
+/// answers the light where it is brightest.
+pub fn wood() -> Truth {
+    Truth::Banded { a: lacquer(), b: bare_wood(), bands: WOOD_BANDS }
+}
+
+/// Stripes of the wood.
+pub const WOOD_BANDS: usize = 8;
+
 fn abc(name: &str, exposure: f64) -> Truth {
     Truth::Abc { model: Abc::bundled(name).expect("a bundled ABC material"), exposure }
 }
@@ -152,31 +213,52 @@ pub fn materials() -> Vec<MaterialSpec> {
         MaterialSpec {
             name: "plastic",
             truth: Truth::Analytic(plastic()),
+            kind: FitKind::Uniform,
             paintings: vec![painting!("plastic.png", 0, Some(1))],
         },
         MaterialSpec {
             name: "gooch",
             truth: Truth::Analytic(gooch()),
+            kind: FitKind::Uniform,
             paintings: vec![painting!("gooch.png", 0, Some(2))],
         },
-        MaterialSpec { name: "gold-paint", truth: abc("gold-paint", GOLD_EXPOSURE), paintings: vec![gold] },
+        MaterialSpec {
+            name: "gold-paint",
+            truth: abc("gold-paint", GOLD_EXPOSURE),
+            kind: FitKind::Uniform,
+            paintings: vec![gold],
+        },
         MaterialSpec {
             name: "gold-paint-2-views",
             truth: abc("gold-paint", GOLD_EXPOSURE),
+            kind: FitKind::Uniform,
             paintings: vec![gold, painting!("gold-paint-2.png", 1, Some(4))],
         },
         MaterialSpec {
             name: "purple-paint",
             truth: abc("purple-paint", PURPLE_EXPOSURE),
+            kind: FitKind::Uniform,
             paintings: vec![painting!("purple-paint.png", 0, Some(5))],
+        },
+        // Both views: a material map knows a texel only where some painting saw it, and the
+        // second view paints a further 60° of the stripes.
+        MaterialSpec {
+            name: "lacquered-wood",
+            truth: wood(),
+            kind: FitKind::MaterialMap { terms: WOOD_TERMS },
+            paintings: vec![painting!("wood.png", 0, Some(6)), painting!("wood-2.png", 1, Some(7))],
         },
         MaterialSpec {
             name: "toon",
             truth: Truth::Matcap { name: "toon" },
+            kind: FitKind::Uniform,
             paintings: vec![painting!("toon.png", 0, None)],
         },
     ]
 }
+
+/// Most terms of the wood's material map.
+pub const WOOD_TERMS: usize = 5;
 
 /// Exposure of the gold paint: its brightest pixel at about 0.9 in either view.
 pub const GOLD_EXPOSURE: f64 = 3.0;
@@ -263,7 +345,8 @@ pub fn paint(truth: &Truth, g: &GBuffer, scene: &Scene, brush: Option<&Brush>, m
                 let l = px.l.as_dvec3().normalize_or(glam::DVec3::Z);
                 let v = px.v.as_dvec3();
                 let v = glam::DVec3::new(v.x, v.y, v.z.max(1e-3)).normalize_or(glam::DVec3::Z);
-                let s = t.shading(l, v).expect("known truth");
+                let uv = glam::DVec2::new(px.uv.x as f64, px.uv.y as f64);
+                let s = t.shading(&Query { l, v, uv }).expect("known truth");
                 let f = px.falloff as f64;
                 [0, 1, 2].map(|c| s[c] * light[c] * f)
             }

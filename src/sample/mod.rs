@@ -50,6 +50,7 @@ use crate::error::{Error, Result};
 use crate::factor::cache::{Cache, Outcome};
 use crate::factor::{Fit, Mapping, Pattern, Prepared, Query, Settings};
 use crate::images::Painting;
+use crate::material::map::Grid;
 
 pub use photo::{NormalMap, Photo, PhotoCamera, PhotoLight};
 pub use scene::{check_aspect, check_same_model, SceneSampler};
@@ -239,6 +240,23 @@ impl Samples {
     /// Whether there are none.
     pub fn is_empty(&self) -> bool {
         self.values.is_empty()
+    }
+
+    /// The pixel grid of each of `views` (the views these samples were gathered from): which
+    /// sample each pixel holds. A material map rasterizes them to fill the gaps of its
+    /// coefficient textures ([`crate::material::map::fit`]).
+    pub fn grids(&self, views: &[PaintedView]) -> Vec<Grid> {
+        let mut grids: Vec<Grid> = views
+            .iter()
+            .map(|v| Grid { width: v.geometry.width, height: v.geometry.height, sample: vec![None; v.geometry.width * v.geometry.height] })
+            .collect();
+        for (k, &(view, pixel)) in self.origin.iter().enumerate() {
+            // Samples of other views than those given have no grid to go in.
+            if let Some(cell) = grids.get_mut(view).and_then(|g| g.sample.get_mut(pixel)) {
+                *cell = Some(k as u32);
+            }
+        }
+        grids
     }
 }
 
