@@ -234,6 +234,8 @@ struct Wood {
     uniform: Material,
     uniform_train: f64,
     held: Vec<StudyView>,
+    /// Where the paintings saw the surface.
+    painted: brdfpaint::demo::Coverage,
 }
 
 fn wood() -> &'static Wood {
@@ -260,6 +262,7 @@ fn wood() -> &'static Wood {
             uniform,
             uniform_train: fitted.fit.errors.rms_relative,
             held,
+            painted: brdfpaint::demo::Coverage::of(&views),
         }
     })
 }
@@ -272,58 +275,56 @@ fn spatially_varying_wood_is_a_material_map_that_fits_its_paintings_better() {
     assert!(w.map.terms.len() >= 2, "{} term(s)", w.map.terms.len());
     assert_eq!(summary_row(summary, "lacquered-wood")[1], format!("map/{}", w.map.terms.len()));
     assert_eq!(summary_row(summary, "plastic")[1], "uniform");
-    // On the painted samples the map beats one product clearly: it can give each stripe its
-    // own material (measured: relative RMS 0.279 with five terms, 0.412 uniform).
+    // On the painted samples the map beats one product clearly: it gives each stripe its
+    // own material (measured: relative RMS 0.025 against 0.41 uniform).
     let map_train: f64 = column(summary, "lacquered-wood", RMS - 1).parse().unwrap();
-    assert!(map_train < 0.8 * w.uniform_train, "map {map_train} vs uniform {}", w.uniform_train);
+    assert!(map_train < 0.2 * w.uniform_train, "map {map_train} vs uniform {}", w.uniform_train);
 }
 
 #[test]
-fn spatially_varying_wood_held_out_error_is_reported_with_uv() {
+fn spatially_varying_wood_holds_under_new_lights() {
     let w = wood();
     let summary = &runs().first.stdout;
     let truth = paintings::wood();
-    let map = brdfpaint::demo::held_out_error(&w.map, &truth, &w.held).unwrap();
-    let uniform = brdfpaint::demo::held_out_error(&w.uniform, &truth, &w.held).unwrap();
+    let judge = |m: &Material, t: &Truth| brdfpaint::demo::held_out_error(m, t, &w.held, Some(&w.painted)).unwrap();
+    let (map, uniform) = (judge(&w.map, &truth), judge(&w.uniform, &truth));
     let reported: f64 = column(summary, "lacquered-wood", HELD_OUT).parse().unwrap();
     assert!((reported - map).abs() < 1e-3, "summary says {reported}, recomputed {map}");
     let line = format!("lacquered-wood: held-out {map:.4} as a material map, {uniform:.4} as one uniform product.");
     assert!(summary.contains(&line), "no line {line:?} in\n{summary}");
+    // Under lights and from views nobody painted, on the part of the surface the paintings
+    // saw, the map is far closer to the truth than one product (measured 0.22 against
+    // 0.56): each stripe's term is its own material's BRDF.
+    assert!(map < 0.5 * uniform && map < 0.3, "held-out: map {map:.4}, uniform {uniform:.4}");
     // The truth is evaluated at each pixel's uv, and the map has learnt where the stripes
-    // are: against the stripes swapped (lacquer where the bare wood is) it is much further
-    // off (measured 0.840 against 0.696).
+    // are: against the stripes swapped (lacquer where the bare wood is) it is far off.
     let swapped = Truth::Banded { a: paintings::bare_wood(), b: paintings::lacquer(), bands: paintings::WOOD_BANDS };
-    let against_swapped = brdfpaint::demo::held_out_error(&w.map, &swapped, &w.held).unwrap();
-    assert!(against_swapped > map + 0.1, "against swapped stripes {against_swapped}, against the stripes {map}");
-    // Measured: 0.696 for the map, 0.545 for one uniform product. Held-out lights put
-    // highlights on stripes that no painting showed under a highlight (the lacquered stripe
-    // at azimuth 0°-45° is lit only from the side in the front-left view, and the back is
-    // painted in neither view); a per-texel coefficient cannot know that stripe is glossy,
-    // while one product spreads the average gloss everywhere. The bound catches a fit that
-    // gets worse than today's; a better map fit (a refinement step) will land below it.
-    const BOUND: f64 = 0.75;
-    assert!(map < BOUND, "held-out relative RMS {map:.4} >= {BOUND}");
+    let against_swapped = judge(&w.map, &swapped);
+    assert!(against_swapped > 2.0 * map, "against swapped stripes {against_swapped}, against the stripes {map}");
 }
 
 #[test]
 fn spatially_varying_wood_coefficients_separate_the_stripes() {
     // Mid-stripe, on the lacquered stripe 2 (azimuth -90° to -45°) and the bare stripe 3
-    // (-45° to 0°), which both paintings see, from just above the equator to it: the first
-    // term, fitted to everything, is scaled down on the dark lacquer and kept on the light
-    // bare wood. Measured mean coefficients: lacquer 0.29, 0.34, 0.45; bare 0.56, 0.56, 1.0.
-    // (The first term dominates on both stripes: the map separates them by its coefficients,
-    // not by giving each its own term. A texel is seen at one or two (l, v) only; elsewhere
-    // its shading is the terms' shapes scaled, which is why held-out lights fare worse.)
+    // (-45° to 0°), which both paintings see, from above the equator to it: the terms that
+    // carry one stripe are not those that carry the other (five terms for two materials:
+    // a material may take several terms, e.g. for its brush noise, but no term is shared).
     let w = wood();
     let truth = paintings::wood();
     let bands = paintings::WOOD_BANDS as f64;
     let (lacquered, bare) = (2.5 / bands, 3.5 / bands);
     assert_eq!(truth.band(lacquered) % 2, 0, "stripe 2 is lacquered");
     assert_eq!(truth.band(bare) % 2, 1, "stripe 3 is bare");
-    let first = w.map.terms[0].coefficients.as_ref().expect("a material map term has coefficients");
-    let mean = |u: f64, v: f64| first.lookup(DVec2::new(u, v)).iter().sum::<f64>() / 3.0;
+    let coefficients = |u: f64, v: f64| -> Vec<f64> {
+        w.map.terms.iter().map(|t| t.coefficients.as_ref().expect("a material map term has coefficients").lookup(DVec2::new(u, v)).iter().sum::<f64>() / 3.0).collect()
+    };
+    let present = |c: &[f64]| -> Vec<usize> {
+        let top = c.iter().cloned().fold(0.0, f64::max);
+        (0..c.len()).filter(|&k| c[k] > 0.1 * top).collect()
+    };
     for v in [0.3, 0.4, 0.5] {
-        let (g, m) = (mean(lacquered, v), mean(bare, v));
-        assert!(g < 0.7 * m, "v = {v}: first-term coefficient {g:.3} on the lacquer, {m:.3} on the bare wood");
+        let (g, m) = (coefficients(lacquered, v), coefficients(bare, v));
+        let (pg, pm) = (present(&g), present(&m));
+        assert!(pg.iter().all(|k| !pm.contains(k)), "v = {v}: a term on both stripes: lacquer {g:?}, bare {m:?}");
     }
 }

@@ -10,7 +10,8 @@
 //!    (a standard scene is prepared once, ever), solved in milliseconds; the wood as `--kind
 //!    material-map` on the same prepared system. Where the truth is known, the material is
 //!    judged against it on three lights and views nobody painted, at each pixel's whole
-//!    query (uv included); the wood also as one uniform product, for comparison.
+//!    query (uv included); the wood, on the pixels whose surface point a painting saw, and
+//!    also as one uniform product, for comparison.
 //! 4. The recovered materials are rendered on the sphere they were painted on and retargeted
 //!    onto the bunny, Suzanne and the teapot under new lights ([`retargets`]); those have no
 //!    uvs, and get the sphere's by spherical projection, so a material map wraps around them.
@@ -252,8 +253,12 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
         held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, HELD_OUT_SIZE)).collect::<Result<_>>()?;
     let mut rows = Vec::new();
     for (spec, f) in specs.iter().zip(&fitted) {
+        // A spatially varying material is known only where it was painted: it is judged on
+        // the held-out pixels whose surface point some painting saw (a held-out view of the
+        // back of the sphere shows stripes nobody painted).
+        let painted = spec.truth.is_spatial().then(|| Coverage::of(&f.views));
         let judge = |m: &Material| -> Result<Option<f64>> {
-            if spec.truth.is_known() { held_out_error(m, &spec.truth, &held).map(Some) } else { Ok(None) }
+            if spec.truth.is_known() { held_out_error(m, &spec.truth, &held, painted.as_ref()).map(Some) } else { Ok(None) }
         };
         let held_out = judge(&f.material)?;
         let uniform_held_out = match &f.uniform {
@@ -428,13 +433,16 @@ fn with_uvs(mut meshes: Vec<crate::scene::CpuMesh>) -> Vec<crate::scene::CpuMesh
 /// function over every usable pixel of the held-out views, all channels. Both are evaluated
 /// at the pixel's whole query, uv included: a spatially varying truth and a material map
 /// are compared point by point on the surface.
-pub fn held_out_error(material: &Material, truth: &Truth, held_out: &[StudyView]) -> Result<f64> {
+pub fn held_out_error(material: &Material, truth: &Truth, held_out: &[StudyView], painted: Option<&Coverage>) -> Result<f64> {
     let white = Light::Directional { direction: -glam::Vec3::Z, color: glam::Vec3::ONE, intensity: 1.0 };
     let (mut num, mut den) = (0.0, 0.0);
     for view in held_out {
         let g = geometry_from_gbuffer(&view.gbuffer, &white, true, Erosion::default())?;
         for (px, _) in g.pixels.iter().zip(&g.usable).filter(|(_, &u)| u) {
             let q = px.expect("usable pixels have geometry").query;
+            if painted.is_some_and(|c| !c.covers(q.uv)) {
+                continue;
+            }
             let Some(t) = truth.shading(&q) else {
                 return Err(Error::input("the held-out error needs a known shading function"));
             };
@@ -446,6 +454,38 @@ pub fn held_out_error(material: &Material, truth: &Truth, held_out: &[StudyView]
         }
     }
     Ok((num / den.max(f64::MIN_POSITIVE)).sqrt())
+}
+
+/// Where on the surface the paintings have samples: cells of a 64² uv grid.
+pub struct Coverage {
+    cells: Vec<bool>,
+}
+
+impl Coverage {
+    const RES: usize = 64;
+
+    /// The cells the samples of `views` fall in.
+    pub fn of(views: &[PaintedView]) -> Coverage {
+        let mut cells = vec![false; Self::RES * Self::RES];
+        for v in views {
+            for (px, _) in v.geometry.pixels.iter().zip(&v.geometry.usable).filter(|(_, &u)| u) {
+                if let Some(px) = px {
+                    cells[Self::cell(px.query.uv)] = true;
+                }
+            }
+        }
+        Coverage { cells }
+    }
+
+    fn cell(uv: glam::DVec2) -> usize {
+        let t = crate::factor::param::uv_forward(uv) * (Self::RES - 1) as f64;
+        t.y.round() as usize * Self::RES + t.x.round() as usize
+    }
+
+    /// Whether texture coordinates fall in a painted cell.
+    pub fn covers(&self, uv: glam::DVec2) -> bool {
+        self.cells[Self::cell(uv)]
+    }
 }
 
 /// The one-screen summary.
@@ -507,7 +547,7 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
     for row in rows {
         if let (Some(m), Some(u)) = (row.held_out, row.uniform_held_out) {
             let _ = writeln!(s, "{}: held-out {m:.4} as a material map, {u:.4} as one uniform product.", row.name);
-            let _ = writeln!(s, "  (a map knows each texel under the lights it was painted in; new highlights are guesses)");
+            let _ = writeln!(s, "  (judged where the paintings saw the surface: the back of the sphere was never painted)");
         }
     }
     let _ = writeln!(s, "A MatCap is lit by its own studio lights, not by one light: its fit can only approximate it.");

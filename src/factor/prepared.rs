@@ -304,19 +304,24 @@ impl Prepared {
 
     /// The log-space model $\mathbf A \tilde{\mathbf y}$ at every sample.
     pub fn predict_log(&self, y: &Mat<f64>) -> Vec<[f64; 3]> {
+        use rayon::prelude::*;
         let d = &self.design;
-        (0..d.rows())
-            .map(|r| {
-                let mut sum = [0.0; 3];
-                for k in d.row_ptr[r] as usize..d.row_ptr[r + 1] as usize {
-                    let (c, a) = (d.row_col[k] as usize, d.row_val[k]);
-                    for (ch, s) in sum.iter_mut().enumerate() {
-                        *s += a * y[(c, ch)];
-                    }
+        let row = |r: usize| {
+            let mut sum = [0.0; 3];
+            for k in d.row_ptr[r] as usize..d.row_ptr[r + 1] as usize {
+                let (c, a) = (d.row_col[k] as usize, d.row_val[k]);
+                for (ch, s) in sum.iter_mut().enumerate() {
+                    *s += a * y[(c, ch)];
                 }
-                sum
-            })
-            .collect()
+            }
+            sum
+        };
+        // Threads pay off on large patterns only (as in the scatter of `transpose_apply`).
+        if d.rows() < 32_768 {
+            (0..d.rows()).map(row).collect()
+        } else {
+            (0..d.rows()).into_par_iter().with_min_len(8192).map(row).collect()
+        }
     }
 
     /// Split the solution vector into per-factor linear-space tables.

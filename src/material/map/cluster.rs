@@ -64,7 +64,7 @@ pub(super) fn fit(prepared: &Prepared, values: &[[f64; 3]], grids: &[Grid], layo
     let first = prepared.solve(values, opts.mapping)?;
     let map = first.map;
     let log_obs: Vec<[f64; 3]> = values.iter().map(|v| [0, 1, 2].map(|c| map.forward(c, v[c]))).collect();
-    let neighbours = neighbours(grids, n);
+    let near = Near::new(grids, layout, n);
     let y = prepared.solve_log(&log_obs);
     let mut state = State { clusters: vec![Cluster { log_pred: prepared.predict_log(&y), y }], labels: vec![0; n] };
     let mut errors = vec![state.errors(prepared, &map, values)];
@@ -74,7 +74,7 @@ pub(super) fn fit(prepared: &Prepared, values: &[[f64; 3]], grids: &[Grid], layo
         candidates.par_iter_mut().for_each(|c| {
             for _ in 0..ROUNDS {
                 c.refit(prepared, &log_obs);
-                if c.reassign(&log_obs, &neighbours) * 1000 < n {
+                if c.reassign(&log_obs, &near) * 1000 < n {
                     break;
                 }
             }
@@ -146,18 +146,35 @@ impl State {
         }
     }
 
-    /// Move every sample to the cluster that explains it best, then to the label most of
-    /// its pixel neighbourhood has. Returns how many samples changed cluster.
-    fn reassign(&mut self, log_obs: &[[f64; 3]], neighbours: &[Vec<u32>]) -> usize {
-        let best: Vec<u32> = log_obs
-            .iter()
-            .enumerate()
-            .map(|(i, o)| {
-                let err = |c: &Cluster| sq(residual(*o, c.log_pred[i]));
-                (0..self.clusters.len()).min_by(|&a, &b| err(&self.clusters[a]).total_cmp(&err(&self.clusters[b]))).unwrap_or(0) as u32
+    /// Move every sample to the cluster that explains it and its surface cell best, then to
+    /// the label most of its pixel neighbourhood has. Returns how many samples changed
+    /// cluster.
+    ///
+    /// The cell term is what ties views together: a point of the surface has one material
+    /// whatever the light, so a glossy stripe's highlight in one view and the same stripe
+    /// unlit in another must fall to one term. Without it the highlight alone can go to a
+    /// matte region's term, which then shows a highlight under every new light.
+    fn reassign(&mut self, log_obs: &[[f64; 3]], near: &Near) -> usize {
+        let j = self.clusters.len();
+        let err: Vec<f64> = (0..log_obs.len())
+            .flat_map(|i| self.clusters.iter().map(move |c| sq(residual(log_obs[i], c.log_pred[i]))))
+            .collect();
+        let mut cell_err = vec![0.0; near.cells * j];
+        let mut cell_count = vec![0u32; near.cells];
+        for (i, &b) in near.cell.iter().enumerate() {
+            cell_count[b as usize] += 1;
+            for k in 0..j {
+                cell_err[b as usize * j + k] += err[i * j + k];
+            }
+        }
+        let best: Vec<u32> = (0..log_obs.len())
+            .map(|i| {
+                let b = near.cell[i] as usize;
+                let score = |k: usize| err[i * j + k] + cell_err[b * j + k] / cell_count[b] as f64;
+                (0..j).min_by(|&a, &b| score(a).total_cmp(&score(b))).unwrap_or(0) as u32
             })
             .collect();
-        let j = self.clusters.len();
+        let neighbours = &near.pixels;
         let mut votes = vec![0u32; j];
         let mut changed = 0;
         for i in 0..log_obs.len() {
@@ -243,6 +260,28 @@ impl State {
             terms.push(term(prepared, tables, *map, coef));
         }
         Ok(terms)
+    }
+}
+
+/// What lies near each sample: its pixel neighbours, and its cell of a coarse uv grid that
+/// all views share.
+struct Near {
+    pixels: Vec<Vec<u32>>,
+    cell: Vec<u32>,
+    cells: usize,
+}
+
+impl Near {
+    fn new(grids: &[Grid], layout: &Layout, n: usize) -> Near {
+        // About eight samples a cell where the paintings cover the texture evenly.
+        let res = (((n / 8) as f64).sqrt().round() as usize).clamp(8, layout.res);
+        let cell = (0..n)
+            .map(|i| {
+                let t = crate::factor::param::uv_forward(layout.uv(i)) * (res - 1) as f64;
+                (t.y.round() as usize * res + t.x.round() as usize) as u32
+            })
+            .collect();
+        Near { pixels: neighbours(grids, n), cell, cells: res * res }
     }
 }
 
