@@ -15,7 +15,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::brdf::{Analytic, SphereView};
+use crate::brdf::{Analytic, SphereView, Striped};
 use crate::error::Result;
 use crate::factor::{prepare, LogMap, Pattern, Settings};
 
@@ -39,6 +39,14 @@ pub struct Case {
     pub time_s: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ratio: Option<f64>,
+    /// Errors on the fitted samples (thesis Table 5.4: RMS and max, values in [0, 1]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rms: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max: Option<f64>,
+    /// Relative RMS on views nobody painted.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub held_out: Option<f64>,
     /// The thesis's figure for the step we time as `solve_s` (or `time_s`), where it has one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub thesis_s: Option<f64>,
@@ -244,53 +252,110 @@ pub fn gl_table(cases: &[Case]) -> String {
 }
 
 /// Thesis Table 5.3: material maps with J ∈ {5, 10, 15, 20} terms at factor resolution 32
-/// and 128, ~7.9k samples. The painting is a sphere with a glossy and a matte BRDF in
-/// stripes of u (so every term has something left to fit); the system is prepared once and
-/// each term costs a solve, a prediction and a 256² coefficient texture. Fitting runs all J
-/// terms (no early stop). `time_s` is the whole fit after the prepare; the thesis's seconds
-/// are beside it.
+/// and 128, ~7.9k samples, by both fits: `greedy` (the thesis's, eqs. 4.2–4.4) and
+/// `cluster` (brdfpaint's default). The painting is a sphere with a glossy and a matte BRDF
+/// in stripes of u; the system is prepared once. Fitting runs all J terms (no early stop).
+/// `time_s` is the whole fit after the prepare; the thesis's seconds are beside it.
 pub fn material_map_cases(quick: bool) -> Result<Vec<Case>> {
-    use crate::material::map::{self, Grid, MapOptions};
-    let res = 102;
-    let view = SphereView::new(glam::DVec3::new(-0.5, 0.5, 1.0), res);
-    let pixels = view.pixels();
-    let mut grid = Grid { width: res, height: res, sample: vec![None; res * res] };
-    for (k, p) in pixels.iter().enumerate() {
-        grid.sample[p.pixel[1] * res + p.pixel[0]] = Some(k as u32);
-    }
-    let pattern = view.pattern();
-    let glossy = Analytic::BlinnPhong { diffuse: [0.10, 0.08, 0.05], specular: [0.5, 0.5, 0.5], exponent: 40.0 };
-    let matte = Analytic::Lambert { albedo: [0.55, 0.35, 0.15] };
-    let values: Vec<[f64; 3]> = pattern
-        .queries
-        .iter()
-        .map(|q| if (q.uv.x * 8.0).floor() as i64 % 2 == 0 { &glossy } else { &matte }.shading(q.l, q.v))
-        .collect();
+    use crate::material::map::{self, MapOptions, Method};
+    let (pattern, values, grids) = Striped::wood().paint(&[SphereView::new(glam::DVec3::new(-0.5, 0.5, 1.0), 102)]);
     let thesis = [(32, [2.44, 5.73, 8.91, 12.09]), (128, [3.96, 8.66, 12.64, 17.79])];
     let mut out = Vec::new();
     for (factor_res, seconds) in thesis {
         let prepared = prepare(&pattern, &Settings::uniform(1, factor_res))?;
-        for (terms, thesis_s) in [5, 10, 15, 20].into_iter().zip(seconds) {
-            let opts = MapOptions { terms, min_gain: 0.0, ..Default::default() };
-            let mut result = Ok(());
-            let time_s = median_time(if quick { 1 } else { 3 }, 0.0, || {
-                if let Err(e) = map::fit(&prepared, &pattern, &values, std::slice::from_ref(&grid), &opts) {
-                    result = Err(e);
-                }
-            });
-            result?;
+        for method in [Method::Greedy, Method::Cluster] {
+            for (terms, thesis_s) in [5, 10, 15, 20].into_iter().zip(seconds) {
+                let opts = MapOptions { terms, min_gain: 0.0, method, ..Default::default() };
+                let mut result = Ok(());
+                let time_s = median_time(if quick { 1 } else { 3 }, 0.0, || {
+                    if let Err(e) = map::fit(&prepared, &pattern, &values, &grids, &opts) {
+                        result = Err(e);
+                    }
+                });
+                result?;
+                out.push(Case {
+                    case: format!("table5.3 map {} J={terms} M={factor_res}", method_name(method)),
+                    samples: Some(pattern.len()),
+                    res: Some(factor_res),
+                    terms: Some(terms),
+                    time_s: Some(time_s),
+                    thesis_s: Some(thesis_s),
+                    ..Default::default()
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
+fn method_name(m: crate::material::map::Method) -> &'static str {
+    match m {
+        crate::material::map::Method::Greedy => "greedy",
+        crate::material::map::Method::Cluster => "cluster",
+    }
+}
+
+/// Thesis Table 5.4's error metrics (RMS, max, on sample values in [0, 1]) on a spatially
+/// varying test object: the striped sphere of [`Striped::wood`] painted from four views
+/// that together see all of it (90² each), fitted as a material map with 1–5 terms by
+/// both fits and as a four-factor product (uv 64²). `rms`, `max`: on the painted samples;
+/// `held_out`: relative RMS on four views under new lights.
+pub fn fidelity_cases() -> Result<Vec<Case>> {
+    use crate::material::map::{self, MapOptions, Method};
+    use crate::material::Material;
+    let object = Striped::wood();
+    let (pattern, values, grids) = object.paint(&Striped::painted_views(90));
+    let held = Striped::held_out_views(90);
+    let judge = |m: &Material| crate::brdf::relative_rms(&held, |q| object.shading(q), |q| m.eval(q));
+    let prepared = prepare(&pattern, &Settings::default())?;
+    let mut out = Vec::new();
+    for method in [Method::Greedy, Method::Cluster] {
+        for terms in 1..=5 {
+            let opts = MapOptions { terms, min_gain: 0.0, method, ..Default::default() };
+            let (material, report) = map::fit(&prepared, &pattern, &values, &grids, &opts)?;
             out.push(Case {
-                case: format!("table5.3 material map J={terms} M={factor_res}"),
+                case: format!("table5.4 map {} J={terms}", method_name(method)),
                 samples: Some(pattern.len()),
-                res: Some(factor_res),
-                terms: Some(terms),
-                time_s: Some(time_s),
-                thesis_s: Some(thesis_s),
+                terms: Some(material.terms.len()),
+                rms: Some(report.fitted.rms),
+                max: Some(report.fitted.max),
+                held_out: Some(judge(&material)),
+                time_s: Some(report.seconds),
                 ..Default::default()
             });
         }
     }
+    let settings = Settings::four_factor(1, crate::factor::defaults::RES_1D, 64);
+    let four = prepare(&pattern, &settings)?;
+    let fit = four.solve(&values, crate::factor::Mapping::Auto)?;
+    let material = Material::from_fit(&settings, &fit, Default::default())?;
+    out.push(Case {
+        case: "table5.4 four-factor uv=64".into(),
+        samples: Some(pattern.len()),
+        rms: Some(fit.errors.rms),
+        max: Some(fit.errors.max),
+        held_out: Some(judge(&material)),
+        ..Default::default()
+    });
     Ok(out)
+}
+
+/// Table 5.4's rows as text.
+pub fn fidelity_table(cases: &[Case]) -> String {
+    let f = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.4}"));
+    let mut out = format!("{:<30} {:>6} {:>8} {:>8} {:>9} {:>9}\n", "case", "terms", "RMS", "max", "held-out", "fit ms");
+    for c in cases {
+        out += &format!(
+            "{:<30} {:>6} {:>8} {:>8} {:>9} {:>9}\n",
+            c.case,
+            c.terms.map_or("-".into(), |x| x.to_string()),
+            f(c.rms),
+            f(c.max),
+            f(c.held_out),
+            c.time_s.map_or("-".into(), |s| format!("{:.1}", s * 1e3)),
+        );
+    }
+    out
 }
 
 /// The live-paint loop of `brdfpaint view` (thesis 4.1), headless: strokes on a 512² painting

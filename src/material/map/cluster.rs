@@ -41,11 +41,15 @@ use crate::material::{Coefficients, Term};
 /// k-means rounds after each split.
 const ROUNDS: usize = 6;
 /// Imputation solves per cluster refit (warm-started from the previous round).
-const INNER: usize = 3;
+const INNER: usize = 2;
+/// Over-relaxation of the imputation steps.
+const OMEGA: f64 = 1.6;
 
 /// One cluster's product in log space.
 #[derive(Clone)]
 struct Cluster {
+    /// Whether its samples changed since it was last fitted.
+    stale: bool,
     y: Mat<f64>,
     /// $\mathbf A \tilde{\mathbf y}$ at every sample, inside the cluster or not.
     log_pred: Vec<[f64; 3]>,
@@ -66,7 +70,7 @@ pub(super) fn fit(prepared: &Prepared, values: &[[f64; 3]], grids: &[Grid], layo
     let log_obs: Vec<[f64; 3]> = values.iter().map(|v| [0, 1, 2].map(|c| map.forward(c, v[c]))).collect();
     let near = Near::new(grids, layout, n);
     let y = prepared.solve_log(&log_obs);
-    let mut state = State { clusters: vec![Cluster { log_pred: prepared.predict_log(&y), y }], labels: vec![0; n] };
+    let mut state = State { clusters: vec![Cluster { stale: false, log_pred: prepared.predict_log(&y), y }], labels: vec![0; n] };
     let mut errors = vec![state.errors(prepared, &map, values)];
     while state.clusters.len() < opts.terms {
         // Every candidate split runs its k-means rounds; the lowest objective wins.
@@ -120,7 +124,8 @@ impl State {
                 }
             }
             if moved > 0 && moved < members.len() {
-                next.clusters.push(self.clusters[worst].clone());
+                next.clusters[worst].stale = true;
+                next.clusters.push(Cluster { stale: true, ..self.clusters[worst].clone() });
                 out.push(next);
             }
         }
@@ -133,14 +138,24 @@ impl State {
     }
 
     /// Refit every cluster to its own samples: the others take the cluster's prediction.
+    /// Only clusters whose samples changed are refitted, so a split costs the refits of the
+    /// clusters it disturbs, not of all of them (fitting is linear in the number of terms).
     fn refit(&mut self, prepared: &Prepared, log_obs: &[[f64; 3]]) {
         let mut target = vec![[0.0; 3]; log_obs.len()];
         for (j, cluster) in self.clusters.iter_mut().enumerate() {
+            if !std::mem::take(&mut cluster.stale) {
+                continue;
+            }
             for _ in 0..INNER {
                 for (i, t) in target.iter_mut().enumerate() {
                     *t = if self.labels[i] == j as u32 { log_obs[i] } else { cluster.log_pred[i] };
                 }
-                cluster.y = prepared.solve_log(&target);
+                // Over-relaxed: the EM step scaled by OMEGA (it is a contraction with
+                // eigenvalues in [0, 1), so any factor below 2 converges, and the slow
+                // directions, those the cluster has few samples on, go faster).
+                let em = prepared.solve_log(&target);
+                let y = &cluster.y;
+                cluster.y = Mat::from_fn(y.nrows(), 3, |r, c| y[(r, c)] + OMEGA * (em[(r, c)] - y[(r, c)]));
                 cluster.log_pred = prepared.predict_log(&cluster.y);
             }
         }
@@ -192,6 +207,8 @@ impl State {
             }
             if label != self.labels[i] {
                 changed += 1;
+                self.clusters[label as usize].stale = true;
+                self.clusters[self.labels[i] as usize].stale = true;
             }
             self.labels[i] = label;
         }
