@@ -160,6 +160,13 @@ pub fn factor_cases(quick: bool) -> Result<Vec<Case>> {
         c.thesis_prepare_s = Some(svd);
         out.push(c);
     }
+    // Beyond the thesis's 64²: the four-factor product with a 256² uv table (issue targets:
+    // prepare ≤ 2 s, solve ≤ 20 ms), at 7.9k samples and at a 512² painting's ~200k.
+    for target in [7884, 200_000] {
+        let pattern = if target == 7884 { p7884.clone() } else { sphere_pattern(target) };
+        let name = format!("4-factor M=128 uv=256 {}k samples", (target + 500) / 1000);
+        out.push(measure(name, &pattern, &Settings::four_factor(1, 128, 256), 256, quick)?);
+    }
     Ok(out)
 }
 

@@ -125,7 +125,11 @@ pub(super) fn run(args: FitArgs) -> Result<()> {
     }
     if matches!(args.kind, KindArg::FourFactor | KindArg::Hybrid) {
         let four = Settings::four_factor(1, 2, args.uv_res.unwrap_or(crate::factor::defaults::RES_UV));
-        settings.factors.push(four.factors[3].clone());
+        let mut uv = four.factors[3].clone();
+        if args.kind == KindArg::Hybrid {
+            uv.smooth = crate::factor::defaults::SMOOTH_UV_HYBRID;
+        }
+        settings.factors.push(uv);
         settings.validate()?;
     }
     if args.erode > 64 {
