@@ -187,6 +187,10 @@ fn bad_input_is_one_line_naming_the_file_and_writes_nothing() {
         (vec!["--scene", s(&scene), "--image", s(&missing_png)], "missing.png", "missing.png"),
         (vec!["--scene", s(&scene), "--image", s(&good), "--uv-res", "64"], "applies to the four-factor", "four-factor"),
         (vec!["--scene", s(&scene), "--image", s(&good), "--res", "0"], "resolution", "resolution"),
+        // Limits: terms the renderer draws, coefficient texture and uv table sizes.
+        (vec!["--scene", s(&scene), "--image", s(&good), "--kind", "material-map", "--terms", "9"], "outside 1..=8", "--terms"),
+        (vec!["--scene", s(&scene), "--image", s(&good), "--kind", "material-map", "--uv-res", "5000"], "outside 2..=4096", "coefficient texture"),
+        (vec!["--scene", s(&scene), "--image", s(&good), "--kind", "four-factor", "--uv-res", "5000"], "outside 2..=1024", "uv"),
     ];
     for (args, reason, file) in cases {
         let mut all = vec!["fit"];

@@ -120,6 +120,9 @@ pub(super) fn run(args: FitArgs) -> Result<()> {
     if args.terms.is_some() && matches!(args.kind, KindArg::Uniform | KindArg::FourFactor) {
         return Err(Error::input("--terms applies to the material-map and hybrid kinds"));
     }
+    if let Some(t) = args.terms.filter(|t| !(1..=crate::render::MAX_TERMS).contains(t)) {
+        return Err(Error::input(format!("--terms {t} is outside 1..={} (the most terms the renderer draws)", crate::render::MAX_TERMS)));
+    }
     if args.map_fit.is_some() && matches!(args.kind, KindArg::Uniform | KindArg::FourFactor) {
         return Err(Error::input("--map-fit applies to the material-map and hybrid kinds"));
     }
@@ -231,11 +234,16 @@ fn run_paintings(args: &FitArgs, settings: &Settings) -> Result<()> {
         prepare_s: fitted.prepare_s,
         solve_s: fitted.solve_s,
     };
-    let material = match map {
-        Some((mut m, report)) => {
-            m.provenance = Provenance { errors: report.errors.last().copied(), solve_s: report.seconds, ..provenance };
+    let material = match &map {
+        Some((m, report)) => {
+            let mut m = m.clone();
+            m.provenance = Provenance { errors: Some(report.fitted), solve_s: report.seconds, ..provenance };
+            let what = match args.map_fit {
+                Some(MapFitArg::Greedy) => "terms on positive residuals",
+                _ => "region(s), each sample against its region's product",
+            };
             for (k, e) in report.errors.iter().enumerate() {
-                println!("material map, {} term(s): RMS {:.5}  relative {:.4}  max {:.4}", k + 1, e.rms, e.rms_relative, e.max);
+                println!("{} {what}: RMS {:.5}  relative {:.4}  max {:.4}", k + 1, e.rms, e.rms_relative, e.max);
             }
             m
         }
@@ -274,18 +282,34 @@ fn run_paintings(args: &FitArgs, settings: &Settings) -> Result<()> {
         cache_note,
         fitted.solve_s * 1e3
     );
-    for (map, e) in &fit.tried {
-        println!("  mapping {:<8} RMS {:.5}  relative {:.4}  max {:.4}", map.name(), e.rms, e.rms_relative, e.max);
+    let e = material.provenance.errors.unwrap_or(fit.errors);
+    match &map {
+        Some((m, report)) => println!(
+            "{} with {} terms (fitted in {:.1} ms): RMS {:.5}  relative {:.4}  max {:.4}; wrote {} and {}",
+            if m.kind == crate::material::Kind::Hybrid { "hybrid" } else { "material map" },
+            m.terms.len(),
+            report.seconds * 1e3,
+            e.rms,
+            e.rms_relative,
+            e.max,
+            args.out.display(),
+            report_path.display()
+        ),
+        None => {
+            for (map, e) in &fit.tried {
+                println!("  mapping {:<8} RMS {:.5}  relative {:.4}  max {:.4}", map.name(), e.rms, e.rms_relative, e.max);
+            }
+            println!(
+                "kept {}: RMS {:.5}  relative {:.4}  max {:.4}; wrote {} and {}",
+                fit.map.name(),
+                e.rms,
+                e.rms_relative,
+                e.max,
+                args.out.display(),
+                report_path.display()
+            );
+        }
     }
-    println!(
-        "kept {}: RMS {:.5}  relative {:.4}  max {:.4}; wrote {} and {}",
-        fit.map.name(),
-        fit.errors.rms,
-        fit.errors.rms_relative,
-        fit.errors.max,
-        args.out.display(),
-        report_path.display()
-    );
     Ok(())
 }
 
