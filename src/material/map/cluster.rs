@@ -252,31 +252,36 @@ impl State {
         let mut weight: Vec<f64> = self.labels.iter().enumerate().map(|(i, &l)| sq(predicted[l as usize][i])).collect();
         let mean_weight = weight.iter().sum::<f64>() / weight.len().max(1) as f64;
         weight.iter_mut().for_each(|w| *w += 1e-3 * mean_weight + 1e-300);
-        let mut terms = Vec::new();
-        for (j, (tables, predicted)) in tables.iter().zip(&predicted).enumerate() {
-            // A sample whose prediction is tiny says nothing about the gain: the gain is
-            // pulled to 1 there, not divided by nearly zero.
-            let mut scale = [0.0f64; 3];
-            let mut count = 0usize;
-            for (i, p) in predicted.iter().enumerate() {
-                if self.labels[i] == j as u32 {
-                    count += 1;
-                    (0..3).for_each(|c| scale[c] += p[c] * p[c]);
-                }
-            }
-            let eps = scale.map(|s| 0.0025 * s / count.max(1) as f64 + 1e-300);
-            let coefficient: Vec<[f64; 3]> = (0..values.len())
-                .map(|i| {
-                    if self.labels[i] != j as u32 {
-                        return [0.0; 3];
+        // The terms' textures are independent: one per thread.
+        let terms = tables
+            .par_iter()
+            .zip(&predicted)
+            .enumerate()
+            .map(|(j, (tables, predicted))| {
+                // A sample whose prediction is tiny says nothing about the gain: the gain is
+                // pulled to 1 there, not divided by nearly zero.
+                let mut scale = [0.0f64; 3];
+                let mut count = 0usize;
+                for (i, p) in predicted.iter().enumerate() {
+                    if self.labels[i] == j as u32 {
+                        count += 1;
+                        (0..3).for_each(|c| scale[c] += p[c] * p[c]);
                     }
-                    let (f, p) = (values[i], predicted[i]);
-                    [0, 1, 2].map(|c| (f[c] * p[c] + eps[c]) / (p[c] * p[c] + eps[c]))
-                })
-                .collect();
-            let coef = Coefficients { res: layout.res, texels: layout.texture(&coefficient, Combine::Mean(&weight)) };
-            terms.push(term(prepared, tables, *map, coef));
-        }
+                }
+                let eps = scale.map(|s| 0.0025 * s / count.max(1) as f64 + 1e-300);
+                let coefficient: Vec<[f64; 3]> = (0..values.len())
+                    .map(|i| {
+                        if self.labels[i] != j as u32 {
+                            return [0.0; 3];
+                        }
+                        let (f, p) = (values[i], predicted[i]);
+                        [0, 1, 2].map(|c| (f[c] * p[c] + eps[c]) / (p[c] * p[c] + eps[c]))
+                    })
+                    .collect();
+                let coef = Coefficients { res: layout.res, texels: layout.texture(&coefficient, Combine::Mean(&weight)) };
+                term(prepared, tables, *map, coef)
+            })
+            .collect();
         Ok(terms)
     }
 }
