@@ -77,20 +77,32 @@ fn bench_json_has_the_documented_fields() {
     assert_eq!(code, 0, "{stderr}");
     let cases: Vec<serde_json::Value> = serde_json::from_str(&stdout).expect("one JSON array");
     // Table 5.1: 4 resolutions x (3-factor, 4-factor); Table 5.2: 2 x 3 sample counts + 4;
-    // Table 5.3: 4 term counts x 2 resolutions; GL: factored (1D, 2D) against GGX at 512²
-    // and 1024²; the live-paint stroke -> frame case.
-    assert_eq!(cases.len(), 31);
+    // the 256² four-factor product at two sample counts; Table 5.3: 4 term counts x 2
+    // resolutions x 2 fits; Table 5.4: 5 term counts x 2 fits + the four-factor product; GL:
+    // factored (1D, 2D) against GGX at 512² and 1024²; the live-paint stroke -> frame case.
+    assert_eq!(cases.len(), 52);
     let name = |c: &&serde_json::Value| c["case"].as_str().unwrap().to_string();
     let (maps, rest): (Vec<_>, Vec<_>) = cases.iter().partition(|c| name(c).starts_with("table5.3"));
-    let (factor, rest): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("table"));
+    let (fidelity, rest): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("table5.4"));
+    let (factor, rest): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("table") || name(c).contains("uv=256"));
     let (live, gl): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("live paint"));
     assert_eq!(gl.len(), 4);
     assert_eq!(live.len(), 1);
+    assert_eq!(factor.len(), 20);
     assert!(live[0]["time_s"].as_f64().unwrap() > 0.0 && live[0]["samples"].as_u64().unwrap() > 10_000, "{}", live[0]);
-    assert_eq!(maps.len(), 8);
+    assert_eq!(maps.len(), 16);
     for c in &maps {
         assert!(c["terms"].as_u64().unwrap() >= 5 && c["time_s"].as_f64().unwrap() > 0.0, "{c}");
     }
+    assert_eq!(fidelity.len(), 11);
+    for c in &fidelity {
+        for field in ["rms", "max", "held_out"] {
+            assert!(c[field].as_f64().is_some_and(|x| x > 0.0 && x.is_finite()), "{field} in {c}");
+        }
+    }
+    // The four-factor 256² case carries what the issue asks for.
+    let big = cases.iter().find(|c| c["case"].as_str().unwrap().contains("uv=256")).expect("the 256² case");
+    assert_eq!(big["unknowns"], 3 * 128 + 256 * 256);
     for c in &gl {
         assert!(c["time_s"].as_f64().unwrap() > 0.0 && c["ratio"].as_f64().unwrap() > 0.0, "{c}");
     }

@@ -3,19 +3,21 @@
 //! The thesis's fit ([`super::greedy`]) explains each sample by whatever blend of terms
 //! stays below it, so the first term is fitted to a mixture of every material and the
 //! coefficient textures end up holding the painted light and view: on a two-material test
-//! object the training error is small, but a view nobody painted misses by half (relative
-//! RMS 0.59). Real paintings are made of a few materials in regions, so here every texel
-//! belongs to one term, and each term is fitted to its own samples only:
+//! object the training error is small, but views nobody painted miss by 0.88 (relative
+//! RMS; BENCHMARKS.md, Table 5.4). Real paintings are made of a few materials in regions,
+//! so here every texel belongs to one term, and each term is fitted to its own samples:
 //!
 //! 1. One product is fitted to every sample (the uniform fit).
-//! 2. The cluster with the largest log-space error is split in two along the principal
-//!    direction of its samples' RGB log residuals (bisecting k-means).
+//! 2. The cluster with the largest log-space error is split in two along a principal
+//!    direction of its samples' RGB log residuals (bisecting k-means; two candidate
+//!    directions, the one that ends with the lower objective wins).
 //! 3. k-means rounds: every cluster's product is refitted to its samples, and every sample
-//!    moves to the product that explains it best in log space (the objective the fit
-//!    minimizes), then takes the label most of its pixel neighbours have, since materials
-//!    come in regions, not in single pixels.
+//!    moves to the product that explains it, and the other samples of its surface cell
+//!    (all views), best in log space (the objective the fit minimizes); then it takes the
+//!    label most of its pixel neighbours have, since materials come in regions, not in
+//!    single pixels.
 //! 4. Steps 2–3 repeat until there are `terms` clusters, or a split improves the error by
-//!    less than `min_gain`.
+//!    less than `min_gain` times the uniform fit's.
 //!
 //! A cluster's product is the least-squares fit to its samples alone, yet it is solved
 //! through the system prepared for all of them: samples outside the cluster take the
@@ -23,11 +25,12 @@
 //! they pull the fit nowhere, and a few solves converge to the cluster's own fit. A refit
 //! costs solves, never a prepare.
 //!
-//! The coefficient of a term is its texel gain where its cluster is and zero elsewhere; the
-//! gain, the per-channel least-squares scale $\sum f\,\hat f / \sum \hat f^2$ of the samples
-//! on a texel, carries albedo variation inside one material (a painted texture, wood grain).
-//! Where several samples meet on a texel their coefficients average, so a texel on a region
-//! border blends the two terms.
+//! The coefficient of a term is its gain where its cluster is and zero elsewhere. A
+//! sample's gain is $f \hat f / \hat f^2$ per channel, pulled to 1 where $\hat f$ is tiny;
+//! a texel averages the gains of its samples weighted by $\hat f^2$, so a sample in shadow
+//! in one view does not dilute the same texel lit in another. The gain carries albedo
+//! variation inside one material (a painted texture, wood grain); a texel on a region border
+//! blends the two terms.
 
 use faer::Mat;
 use rayon::prelude::*;
