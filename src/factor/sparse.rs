@@ -10,6 +10,9 @@ use faer::{Conj, Mat, Par, Side};
 
 use crate::error::{Error, Result};
 
+/// Factors with more nonzeros than this split a few-column solve between two threads.
+const SPLIT_FROM: usize = 2_000_000;
+
 /// $\mathbf L \mathbf L^\top$ of a symmetric positive definite sparse matrix.
 pub(crate) struct SparseLlt {
     symbolic: SymbolicCholesky<usize>,
@@ -45,6 +48,15 @@ impl SparseLlt {
     /// Solve in place for the columns of `rhs`: on the calling thread for a few columns
     /// (a refit), with threads for many (while preparing).
     pub fn solve_in_place(&self, rhs: &mut Mat<f64>) {
+        // A large factor is read from memory on every solve, and one core does not draw all
+        // of the memory bandwidth: the columns are split between two threads, each solving
+        // on its own (faer's own threads fork per supernode, which costs more than it wins).
+        if rhs.ncols() >= 2 && rhs.ncols() <= 8 && self.values.len() > SPLIT_FROM && rayon::current_num_threads() > 1 {
+            let half = rhs.ncols().div_ceil(2);
+            let (a, b) = rhs.as_mut().split_at_col_mut(half);
+            rayon::join(|| self.solve_seq(a), || self.solve_seq(b));
+            return;
+        }
         let par = if rhs.ncols() > 8 { Par::rayon(0) } else { Par::Seq };
         let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(rhs.ncols(), par));
         LltRef::<usize, f64>::new(&self.symbolic, &self.values).solve_in_place_with_conj(
@@ -53,5 +65,13 @@ impl SparseLlt {
             par,
             MemStack::new(&mut mem),
         );
+    }
+}
+
+impl SparseLlt {
+    /// Solve in place on the calling thread.
+    fn solve_seq(&self, rhs: faer::MatMut<'_, f64>) {
+        let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(rhs.ncols(), Par::Seq));
+        LltRef::<usize, f64>::new(&self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, rhs, Par::Seq, MemStack::new(&mut mem));
     }
 }
