@@ -175,9 +175,12 @@ impl State {
     /// matte region's term, which then shows a highlight under every new light.
     fn reassign(&mut self, log_obs: &[[f64; 3]], near: &Near) -> usize {
         let j = self.clusters.len();
-        let err: Vec<f64> = (0..log_obs.len())
-            .flat_map(|i| self.clusters.iter().map(move |c| sq(residual(log_obs[i], c.log_pred[i]))))
-            .collect();
+        let mut err = vec![0.0; log_obs.len() * j];
+        for (k, c) in self.clusters.iter().enumerate() {
+            for (i, (o, p)) in log_obs.iter().zip(&c.log_pred).enumerate() {
+                err[i * j + k] = sq(residual(*o, *p));
+            }
+        }
         let mut cell_err = vec![0.0; near.cells * j];
         let mut cell_count = vec![0u32; near.cells];
         for (i, &b) in near.cell.iter().enumerate() {
