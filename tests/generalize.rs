@@ -14,7 +14,7 @@ fn suite_errors(views: usize) -> Vec<(String, f64)> {
 fn suite_errors_with(views: usize, settings: &Settings) -> Vec<(String, f64)> {
     let patterns: Vec<Pattern> = painted_views(views, 100).iter().map(|v| v.pattern()).collect();
     let pattern = Pattern::concat(&patterns);
-    let prepared = prepare(&pattern, &settings).unwrap();
+    let prepared = prepare(&pattern, settings).unwrap();
     Analytic::suite()
         .into_iter()
         .map(|model| {

@@ -47,10 +47,13 @@ impl Input {
 
 /// A caller-supplied projection: maps a query straight to table coordinates in $[0,1]$
 /// (the second coordinate is ignored by 1D tables). The name identifies it in cache keys.
+/// A custom projection of a query to table coordinates.
+pub type Projection = Arc<dyn Fn(&Query) -> [f64; 2] + Send + Sync>;
+
 #[derive(Clone)]
 pub struct CustomInput {
     pub name: String,
-    pub project: Arc<dyn Fn(&Query) -> [f64; 2] + Send + Sync>,
+    pub project: Projection,
 }
 
 impl PartialEq for CustomInput {

@@ -331,6 +331,8 @@ pub fn normal_matrix(design: &Design, settings: &Settings, progress: Option<&ind
     let mut row = Vec::new();
     let mut val = Vec::new();
     col_ptr.push(0);
+    // `c` is the column being built (marks and progress use it), not only an index.
+    #[allow(clippy::needless_range_loop)]
     for c in 0..n {
         if let Some(bar) = progress.filter(|_| c % 256 == 0) {
             bar.set_position(c as u64);

@@ -96,8 +96,8 @@ impl Factor {
         let stencil = if self.spec.dim() == 1 { stencil_1d(t[0], self.spec.res) } else { stencil_2d(t, self.spec.res) };
         let mut sum = [0.0; 3];
         for (i, w) in stencil.iter() {
-            for c in 0..3 {
-                sum[c] += w * self.texels[i][c] as f64;
+            for (s, &x) in sum.iter_mut().zip(&self.texels[i]) {
+                *s += w * x as f64;
             }
         }
         sum
@@ -115,8 +115,8 @@ impl Coefficients {
         let t = crate::factor::param::uv_forward(uv);
         let mut sum = [0.0; 3];
         for (i, w) in stencil_2d([t.x, t.y], self.res).iter() {
-            for c in 0..3 {
-                sum[c] += w * self.texels[i][c] as f64;
+            for (s, &x) in sum.iter_mut().zip(&self.texels[i]) {
+                *s += w * x as f64;
             }
         }
         sum

@@ -216,7 +216,7 @@ fn texture_path(dir: &Path, json: &Path, name: &str) -> Result<PathBuf> {
 /// Move a finished temporary directory into place, replacing any previous one.
 fn replace_dir(tmp: &Path, dir: &Path) -> Result<()> {
     if dir.exists() {
-        if !dir.join("material.json").exists() && std::fs::read_dir(dir).map_or(false, |mut d| d.next().is_some()) {
+        if !dir.join("material.json").exists() && std::fs::read_dir(dir).is_ok_and(|mut d| d.next().is_some()) {
             return Err(Error::input(format!(
                 "{} exists and is not a material directory; not overwriting it",
                 dir.display()

@@ -98,8 +98,8 @@ pub fn paint(views: &[StudyView], model: &Analytic, format: PaintFormat) -> Resu
     for g in &unit {
         for px in g.pixels.iter().flatten() {
             let s = model.shading(px.query.l, px.query.v);
-            for c in 0..3 {
-                peak = peak.max(s[c] * px.light[c]);
+            for (&x, &l) in s.iter().zip(&px.light) {
+                peak = peak.max(x * l);
             }
         }
     }

@@ -104,7 +104,8 @@ pub fn geometry_from_gbuffer(g: &GBuffer, light: &Light, has_uv: bool, erosion: 
             let q = p.query()?;
             // Back-facing (an interpolated normal turned away from the eye at the rim) and
             // grazing pixels are not samples: $v_z \le 0$ has no place in the view factor.
-            if !(q.v.z > 0.0) || !(p.falloff > 0.0) {
+            // (Written so that NaN is rejected too.)
+            if q.v.z.is_nan() || q.v.z <= 0.0 || p.falloff.is_nan() || p.falloff <= 0.0 {
                 return None;
             }
             let f = p.falloff as f64;
