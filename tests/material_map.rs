@@ -249,3 +249,4 @@ fn hybrid_terms_carry_their_own_uv_factor() {
     let single = view_rms(&Striped::held_out_views(60), truth, |q| four.eval(q));
     assert!(held < 0.5 * single, "hybrid {held} vs one four-factor product {single}");
 }
+

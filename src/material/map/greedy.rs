@@ -9,6 +9,13 @@
 //! its worst channel, and on a two-material test object five terms reached relative RMS 0.26
 //! against 0.20 with three. Several views merge the same way: all their samples meet in one
 //! texture, so each texel keeps the minimum over views (thesis 4.4).
+//!
+//! The minimum is taken per texel node over the samples nearest to it, as the thesis takes
+//! it, so "below every sample" holds at the nodes. Between nodes the bilinear lookup can rise
+//! above a sample whose neighbours are brighter (on the four-view striped test object, 23%
+//! of the samples by some amount, 3% by more than 20%). Taking the minimum over every node of
+//! each sample's bilinear cell keeps every lookup below every sample, but was measured to
+//! raise the training RMS with five terms from 0.016 to 0.048.
 
 use super::texture::{Combine, Layout};
 use super::{term, MapOptions};
