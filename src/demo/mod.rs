@@ -377,7 +377,7 @@ fn fit_material(
             let opts = MapOptions { terms, ..Default::default() };
             let grids = samples.grids(&views);
             let (mut m, report) = map::fit(&fitted.prepared, &samples.pattern, &samples.values, &grids, &opts)?;
-            let errors = report.errors.last().copied().unwrap_or(fitted.fit.errors);
+            let errors = report.fitted;
             m.provenance = Provenance { errors: Some(errors), solve_s: report.seconds, ..provenance };
             (m, Some(uniform), errors, report.seconds)
         }
