@@ -41,6 +41,10 @@ pub(super) struct ViewArgs {
     /// With --frames: save the window's pixels (and OUT.json with the camera and light).
     #[arg(long, value_name = "OUT.png", requires = "frames")]
     screenshot: Option<PathBuf>,
+    /// Render the 3D view at this fraction of the window's resolution (0.25 to 1; also in the
+    /// panel): on software GL a large window's frame costs in proportion to its pixels.
+    #[arg(long, value_name = "F", default_value_t = 1.0)]
+    render_scale: f32,
     /// With --frames: keep the window open this many seconds after the last frame.
     #[arg(long, value_name = "SECONDS", default_value_t = 0.0, requires = "frames")]
     hold: f64,
@@ -73,6 +77,10 @@ pub(super) fn run(args: ViewArgs) -> Result<()> {
         Some(p) => Some((p.display().to_string(), Scene::load(p)?)),
         None => None,
     };
+    let min = crate::viewer::MIN_RENDER_SCALE;
+    if !(min..=1.0).contains(&args.render_scale) {
+        return Err(Error::input(format!("--render-scale {} is outside {min}..=1", args.render_scale)));
+    }
     let mode = if args.paint || args.watch.is_some() { Mode::Paint } else { Mode::View };
     let start = Start {
         model,
@@ -82,6 +90,7 @@ pub(super) fn run(args: ViewArgs) -> Result<()> {
         paint_model: args.paint_model,
         size: args.size,
         mode,
+        render_scale: args.render_scale,
     };
     let hold = if args.hold.is_finite() && args.hold > 0.0 { Duration::from_secs_f64(args.hold.min(3600.0)) } else { Duration::ZERO };
     viewer::run(Options { start, window, frames: args.frames.map(|n| n.max(1)), screenshot: args.screenshot, hold })

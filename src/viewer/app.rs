@@ -62,6 +62,8 @@ pub struct ScreenshotInfo {
     /// sRGB-encoded background of the 3D view, 0..255.
     pub background: [u8; 3],
     pub frames: u64,
+    /// The 3D view's render scale.
+    pub render_scale: f32,
     pub gl_renderer: String,
     pub gl_version: String,
 }
@@ -342,7 +344,8 @@ impl Running {
             self.studio.gpu_model.camera = camera;
             self.studio.gpu_model.light = light;
             self.last_camera = Some((camera, light));
-            self.view3d.draw(&mut self.renderer, &self.studio.gpu_model, self.studio.shading.as_ref(), rect, h as i32)?;
+            let scale = self.studio.render_scale;
+            self.view3d.draw(&mut self.renderer, &self.studio.gpu_model, self.studio.shading.as_ref(), rect, h as i32, scale)?;
             // SAFETY: waits for the GPU, to split the frame time into the view and the panel.
             unsafe { self.gl.finish() };
         }
@@ -399,6 +402,7 @@ impl Running {
             material: self.studio.material_name().to_string(),
             background: b,
             frames: self.frames,
+            render_scale: self.studio.render_scale,
             gl_renderer: self.gl_renderer.clone(),
             gl_version: self.gl_version.clone(),
         };

@@ -23,6 +23,7 @@ void main() {
 const BLIT_FRAG: &str = r#"
 uniform sampler2D u_image;   // linear RGBA, the view's pixels
 uniform ivec2 u_origin;      // window pixel of the image's lower-left corner
+uniform vec2 u_ratio;        // image texels per window pixel (1 at full resolution)
 uniform vec3 u_background;   // sRGB-encoded
 layout(location = 0) out vec4 o_color;
 
@@ -35,11 +36,28 @@ vec3 encode(vec3 x) {
 }
 
 void main() {
-    // 1:1 copy: window pixel -> image texel, no filtering.
-    vec4 c = texelFetch(u_image, ivec2(gl_FragCoord.xy) - u_origin, 0);
+    vec4 c;
+    if (u_ratio.x >= 1.0 && u_ratio.y >= 1.0) {
+        // 1:1 copy: window pixel -> image texel, no filtering.
+        c = texelFetch(u_image, ivec2(gl_FragCoord.xy) - u_origin, 0);
+    } else {
+        // A reduced render scale: bilinear between the four nearest texels, by hand (float
+        // textures need not be filterable).
+        vec2 p = (gl_FragCoord.xy - vec2(u_origin)) * u_ratio - 0.5;
+        ivec2 top = textureSize(u_image, 0) - 1;
+        ivec2 i0 = clamp(ivec2(floor(p)), ivec2(0), top);
+        ivec2 i1 = clamp(i0 + 1, ivec2(0), top);
+        vec2 f = clamp(p - floor(p), 0.0, 1.0);
+        vec4 lo = mix(texelFetch(u_image, i0, 0), texelFetch(u_image, ivec2(i1.x, i0.y), 0), f.x);
+        vec4 hi = mix(texelFetch(u_image, ivec2(i0.x, i1.y), 0), texelFetch(u_image, i1, 0), f.x);
+        c = mix(lo, hi, f.y);
+    }
     o_color = vec4(mix(u_background, encode(c.rgb), clamp(c.a, 0.0, 1.0)), 1.0);
 }
 "#;
+
+/// The smallest render scale of the 3D view.
+pub const MIN_SCALE: f32 = 0.25;
 
 /// A window rectangle in physical pixels, top-left origin.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -69,6 +87,9 @@ impl View3d {
 
     /// Draws `scene` with `shading` into `rect` of a window `window_height` pixels tall (the
     /// default framebuffer, which is left bound). Without a shading, only the background.
+    /// `scale` (clamped to [`MIN_SCALE`]..=1) renders the model at that fraction of the
+    /// rectangle's resolution and magnifies it: on a software rasterizer the 3D pass costs in
+    /// proportion to its pixels.
     pub fn draw(
         &mut self,
         renderer: &mut Renderer,
@@ -76,11 +97,14 @@ impl View3d {
         shading: Option<&GpuShading>,
         rect: PixelRect,
         window_height: i32,
+        scale: f32,
     ) -> Result<()> {
         if rect.width <= 0 || rect.height <= 0 {
             return Ok(());
         }
-        let (w, h) = (rect.width as usize, rect.height as usize);
+        let scale = if scale.is_finite() { scale.clamp(MIN_SCALE, 1.0) } else { 1.0 };
+        let reduced = |n: i32| ((n as f32 * scale).round() as usize).max(1);
+        let (w, h) = (reduced(rect.width), reduced(rect.height));
         if self.target.as_ref().is_none_or(|t| t.width() != w || t.height() != h) {
             self.target = None;
             self.target = Some(Framebuffer::new(&self.gl, w, h)?);
@@ -119,6 +143,10 @@ impl View3d {
         if let Some(loc) = self.blit.location("u_origin") {
             // SAFETY: the program is bound.
             unsafe { gl.uniform_2_i32(Some(&loc), rect.x, origin_y) };
+        }
+        if let Some(loc) = self.blit.location("u_ratio") {
+            // SAFETY: the program is bound.
+            unsafe { gl.uniform_2_f32(Some(&loc), w as f32 / rect.width as f32, h as f32 / rect.height as f32) };
         }
         self.blit.set_vec3("u_background", glam::Vec3::from_array(self.background));
         self.vao.bind();

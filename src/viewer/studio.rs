@@ -75,6 +75,9 @@ pub struct Start {
     pub paint_model: String,
     pub size: usize,
     pub mode: Mode,
+    /// Fraction of the window's resolution the 3D view renders at (see
+    /// [`super::display::View3d::draw`]).
+    pub render_scale: f32,
 }
 
 /// Everything the window shows, and its controls.
@@ -129,6 +132,8 @@ pub struct Studio {
     /// The egui side panel's rectangle, window pixels.
     pub panel_rect: Option<PixelRect>,
     pixels_per_point: f32,
+    /// Fraction of the window's resolution the 3D view renders at.
+    pub render_scale: f32,
 }
 
 fn model_entry_name(path: &Path) -> String {
@@ -189,6 +194,7 @@ impl Studio {
         let settings = Settings::default();
         let mut studio = Studio {
             mode: start.mode,
+            render_scale: start.render_scale,
             models,
             model,
             gpu_model,
@@ -608,6 +614,8 @@ impl Studio {
                 self.light.elevation = el.to_radians();
             }
             ui.add(egui::Slider::new(&mut self.light.intensity, 0.0..=4.0).text("light intensity"));
+            ui.add(egui::Slider::new(&mut self.render_scale, super::display::MIN_SCALE..=1.0).text("render scale"))
+                .on_hover_text("Render the model at this fraction of the window's resolution: faster on software GL");
             if ui.button("Reset view").clicked() {
                 self.orbit = Orbit::framing(self.bound);
                 self.light = LightControl::key(&self.orbit);
@@ -1077,6 +1085,10 @@ impl Studio {
         });
         let height = (ui.available_height() - 24.0).clamp(40.0, 400.0);
         egui::ScrollArea::horizontal().show(ui, |ui| {
+            // Captions never wrap: past the panel's width (a material map's many factors)
+            // they would wrap word by word into tall columns, and the panel, which grows to
+            // its content, would push the 3D view out of the window.
+            ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
             ui.horizontal(|ui| {
                 let mut k = 0;
                 for (ti, term) in material.terms.iter().enumerate() {
