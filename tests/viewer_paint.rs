@@ -264,3 +264,67 @@ fn stroke_to_frame_at_512() {
         println!("{model}: {}", serde_json::to_string(&t).unwrap());
     }
 }
+
+#[test]
+fn dropped_files_open_models_materials_and_paintings_and_strays_are_refused() {
+    // What a file dropped on the window does (`Studio::open_file`, called for every dropped
+    // path): the OS event itself cannot be scripted under Xvfb, the rest is here.
+    use brdfpaint::viewer::{Mode, Start, Studio};
+    let ctx = HeadlessContext::new().unwrap();
+    let mut renderer = Renderer::new(ctx.gl()).unwrap();
+    let start = Start {
+        model: ("sphere".into(), brdfpaint::scene::builtin_model("sphere").unwrap()),
+        material: None,
+        scene: None,
+        watch: None,
+        paint_model: "sphere".into(),
+        size: 64,
+        mode: Mode::View,
+        render_scale: 1.0,
+    };
+    let mut studio = Studio::new(&mut renderer, start).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+
+    // A glTF model from the shared data: it becomes the shown model.
+    let duck = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/models/khronos_duck/Duck.glb");
+    if duck.exists() {
+        studio.open_file(&mut renderer, &duck).unwrap();
+        assert_eq!(studio.model_name(), duck.display().to_string());
+    } else {
+        eprintln!("skipped the model drop: {} not found", duck.display());
+    }
+    // A broken model is refused, and the shown model stays.
+    let shown = studio.model_name().to_string();
+    let broken = dir.path().join("broken.glb");
+    std::fs::write(&broken, b"glTF\x02\x00\x00\x00garbage").unwrap();
+    let e = studio.open_file(&mut renderer, &broken).unwrap_err().to_string();
+    assert!(e.contains("broken.glb"), "{e}");
+    assert_eq!(studio.model_name(), shown);
+
+    // A material directory: shown, and the same material as on disk.
+    let material = studio.current_material().expect("the example painting's fit").clone();
+    let saved = dir.path().join("mat");
+    material.save(&saved).unwrap();
+    studio.open_file(&mut renderer, &saved).unwrap();
+    assert_eq!(studio.material_name(), "mat");
+    assert!(*studio.current_material().unwrap() == Material::load(&saved).unwrap());
+
+    // A painting of the active view's size: loaded into it, and the studio turns to painting.
+    let painting = dir.path().join("p.png");
+    image::RgbaImage::from_pixel(64, 64, image::Rgba([200, 120, 60, 255])).save(&painting).unwrap();
+    studio.open_file(&mut renderer, &painting).unwrap();
+    assert_eq!(studio.mode, Mode::Paint);
+    assert!(studio.status().contains("p.png"), "{}", studio.status());
+    // One of another size is refused, saying why.
+    let wrong = dir.path().join("wrong.png");
+    image::RgbaImage::from_pixel(32, 48, image::Rgba([200, 120, 60, 255])).save(&wrong).unwrap();
+    let e = studio.open_file(&mut renderer, &wrong).unwrap_err().to_string();
+    assert!(e.contains("32x48") && e.contains("64x64"), "{e}");
+
+    // A stray file: one clear reason, nothing changed.
+    let notes = dir.path().join("notes.txt");
+    std::fs::write(&notes, "hello").unwrap();
+    let e = studio.open_file(&mut renderer, &notes).unwrap_err().to_string();
+    assert!(e.contains("notes.txt") && e.contains("not a model"), "{e}");
+    assert_eq!(studio.material_name(), "mat");
+}

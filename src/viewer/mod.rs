@@ -41,4 +41,4 @@ pub mod watch;
 
 pub use app::{run, Options, ScreenshotInfo};
 pub use display::MIN_SCALE as MIN_RENDER_SCALE;
-pub use studio::{example_painting, Mode, Start, Timings};
+pub use studio::{example_painting, Mode, Start, Studio, Timings};

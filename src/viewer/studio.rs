@@ -308,6 +308,11 @@ impl Studio {
         &self.models[self.model].name
     }
 
+    /// The status line under the panel.
+    pub fn status(&self) -> &str {
+        &self.status
+    }
+
     /// Work that does not wait for input: the watched file, a finished background prepare.
     pub fn tick(&mut self) {
         if let Some(mut w) = self.watcher.take() {
