@@ -52,6 +52,48 @@ pub struct GBuffer {
     pub pixels: Vec<GPixel>,
 }
 
+/// Interior lines (creases, occlusion contours) shorter than this fraction of the image's
+/// larger side are dropped: on scanned meshes, triangle noise at grazing angles draws short
+/// dashes inside the silhouette that are no part of the shape (the bunny showed a dozen).
+const SHORT_LINE: f32 = 0.025;
+
+/// Clears the interior line pixels (`line` and not `outer`) of 8-connected components
+/// smaller than `min_len` pixels.
+fn drop_short_interior(line: &mut [bool], outer: &[bool], w: usize, h: usize, min_len: usize) {
+    let interior = |k: usize, line: &[bool]| line[k] && !outer[k];
+    let mut seen = vec![false; w * h];
+    let mut stack = Vec::new();
+    let mut component = Vec::new();
+    for start in 0..w * h {
+        if seen[start] || !interior(start, line) {
+            continue;
+        }
+        seen[start] = true;
+        stack.push(start);
+        component.clear();
+        while let Some(k) = stack.pop() {
+            component.push(k);
+            let (i, j) = ((k % w) as i64, (k / w) as i64);
+            for (di, dj) in [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
+                let (x, y) = (i + di, j + dj);
+                if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
+                    continue;
+                }
+                let n = y as usize * w + x as usize;
+                if !seen[n] && interior(n, line) {
+                    seen[n] = true;
+                    stack.push(n);
+                }
+            }
+        }
+        if component.len() < min_len {
+            for &k in &component {
+                line[k] = false;
+            }
+        }
+    }
+}
+
 /// How the outline is drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OutlineStyle {
@@ -96,6 +138,8 @@ impl GBuffer {
     pub fn lines(&self, style: &OutlineStyle) -> Vec<bool> {
         let (w, h) = (self.width, self.height);
         let mut line = vec![false; w * h];
+        // Pixels whose line is a silhouette (or the image border), which always stays.
+        let mut outer = vec![false; w * h];
         let cos_crease = style.crease_angle.cos();
         // Is there an edge between pixels a and b (4-neighbours)? Returns the pixel on the
         // object's / near side, and the other one.
@@ -121,18 +165,23 @@ impl GBuffer {
                 // Pixels on the image border that see the object close the silhouette.
                 if self.pixels[a].hit && (i == 0 || j == 0 || i + 1 == w || j + 1 == h) {
                     line[a] = true;
+                    outer[a] = true;
                 }
                 let neighbours = [(i + 1 < w).then(|| a + 1), (j + 1 < h).then(|| a + w)];
                 for b in neighbours.into_iter().flatten() {
                     if let Some((near, far)) = edge(a, b) {
+                        let silhouette = self.pixels[a].hit != self.pixels[b].hit;
                         line[near] = true;
+                        outer[near] |= silhouette;
                         if style.width >= 2 {
                             line[far] = true;
+                            outer[far] |= silhouette;
                         }
                     }
                 }
             }
         }
+        drop_short_interior(&mut line, &outer, w, h, (w.max(h) as f32 * SHORT_LINE).round() as usize);
         let grow = style.width.saturating_sub(2) / 2;
         if grow > 0 {
             line = dilate(&line, w, h, grow);
@@ -264,6 +313,44 @@ mod tests {
         let l = g.lines(&OutlineStyle { width: 1, ..Default::default() });
         assert!((1..9).all(|i| l[4 * 10 + i] || l[5 * 10 + i]));
         assert!((1..9).all(|i| !l[2 * 10 + i] && !l[7 * 10 + i]));
+    }
+
+    #[test]
+    fn short_interior_dashes_are_dropped_and_long_lines_kept() {
+        // 400 x 400, all object (dashes under 10 pixels go): a crease across the whole image
+        // and a three-pixel depth jump in a corner, whose line is an 8-pixel ring (a dash).
+        let n = 400;
+        let mut g = square(n, n, 0, n);
+        for j in n / 2..n {
+            for i in 0..n {
+                let p = &mut g.pixels[j * n + i];
+                p.face_normal = Vec3::Y;
+                p.position = Vec3::new(i as f32, -(n as f32 / 2.0 - 0.5), (n as f32 / 2.0 - 0.5) - j as f32);
+                p.depth = 1.0 + (j as f32 - (n as f32 / 2.0 - 0.5));
+            }
+        }
+        for j in 10..13 {
+            let p = &mut g.pixels[j * n + 10];
+            p.position.z -= 5.0;
+            p.depth = 6.0;
+        }
+        let l = g.lines(&OutlineStyle { width: 1, ..Default::default() });
+        assert!((2..n - 2).all(|i| l[(n / 2 - 1) * n + i] || l[n / 2 * n + i]), "the crease stays");
+        assert!((8..16).all(|j| (8..13).all(|i| !l[j * n + i])), "the dash is gone");
+        // Without the dash filter's reach (a 100-pixel image keeps lines of 3 pixels and
+        // more) the same dash is drawn: it is the filter that removed it.
+        let mut small = square(100, 100, 0, 100);
+        for j in 10..13 {
+            let p = &mut small.pixels[j * 100 + 10];
+            p.position.z -= 5.0;
+            p.depth = 6.0;
+        }
+        let l = small.lines(&OutlineStyle { width: 1, ..Default::default() });
+        assert!(l[11 * 100 + 9] && l[11 * 100 + 11]);
+        // The silhouette stays whatever its length: a 3 x 3 object is all outline.
+        let g = square(n, n, 48, 51);
+        let l = g.lines(&OutlineStyle { width: 1, ..Default::default() });
+        assert_eq!(l.iter().filter(|&&x| x).count(), 8);
     }
 
     #[test]
