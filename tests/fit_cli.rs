@@ -191,6 +191,7 @@ fn bad_input_is_one_line_naming_the_file_and_writes_nothing() {
         (vec!["--scene", s(&scene), "--image", s(&good), "--kind", "material-map", "--terms", "9"], "outside 1..=8", "--terms"),
         (vec!["--scene", s(&scene), "--image", s(&good), "--kind", "material-map", "--uv-res", "5000"], "outside 2..=4096", "coefficient texture"),
         (vec!["--scene", s(&scene), "--image", s(&good), "--kind", "four-factor", "--uv-res", "5000"], "outside 2..=1024", "uv"),
+        (vec!["--scene", s(&teapot), "--image", s(&good), "--kind", "material-map"], "no texture coordinates", "teapot.gltf"),
     ];
     for (args, reason, file) in cases {
         let mut all = vec!["fit"];

@@ -214,6 +214,13 @@ fn run_paintings(args: &FitArgs, settings: &Settings) -> Result<()> {
         views.push(view);
     }
     let samples = Samples::gather(&views)?;
+    if args.kind != KindArg::Uniform && !samples.pattern.has_uv {
+        return Err(Error::input(format!(
+            "{}: the model has no texture coordinates, which --kind {} needs (a uv table or coefficient textures)",
+            args.scene[0].display(),
+            args.kind.to_possible_value().map_or(String::new(), |v| v.get_name().to_string())
+        )));
+    }
     let cache = Cache::user();
     let fitted = sample::fit(&samples, settings, args.mapping, cache.as_ref())?;
     let fit = &fitted.fit;
