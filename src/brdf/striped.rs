@@ -26,8 +26,12 @@ impl Striped {
         }
     }
 
-    /// Which BRDF (0: `a`, 1: `b`) is at texture coordinate `u`.
+    /// Which BRDF (0: `a`, 1: `b`) is at texture coordinate `u` (`a` everywhere without
+    /// bands).
     pub fn region(&self, u: f64) -> usize {
+        if self.bands == 0 {
+            return 0;
+        }
         ((u.clamp(0.0, 1.0) * self.bands as f64).floor() as usize).min(self.bands - 1) % 2
     }
 
