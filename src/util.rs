@@ -87,6 +87,31 @@ unsafe fn zeroupper() {
     std::arch::x86_64::_mm256_zeroupper();
 }
 
+/// Whether an output directory's path is free to write: nothing there or an empty directory
+/// (`true`), or a directory holding files (`false`, the caller decides whether they are its
+/// own). Anything else there, a file or a link, is refused with one line.
+pub fn output_dir_is_fresh(dir: &Path) -> Result<bool> {
+    let meta = match std::fs::symlink_metadata(dir) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(true),
+        Err(e) => return Err(Error::io(dir, e)),
+    };
+    if !meta.is_dir() {
+        return Err(Error::input(format!("{} exists and is not a directory; not overwriting it", dir.display())));
+    }
+    Ok(std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?.next().is_none())
+}
+
+/// Puts the finished directory `tmp` (a sibling) at `dir`, which is missing or empty
+/// (checked by the caller): rename cannot replace a directory everywhere, so an empty one is
+/// removed first.
+pub fn move_into_fresh(tmp: &Path, dir: &Path) -> Result<()> {
+    if dir.exists() {
+        std::fs::remove_dir(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    std::fs::rename(tmp, dir).map_err(|e| Error::io(dir, e))
+}
+
 /// Replace the directory `dir` by the finished directory `tmp` (a sibling, same file
 /// system): `dir` is moved aside, `tmp` renamed into place, and the old one removed; if the
 /// second rename fails, `dir` is put back. A missing `dir` is simply created by the rename.

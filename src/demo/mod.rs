@@ -147,15 +147,7 @@ pub fn check_output(dir: &Path) -> Result<()> {
 }
 
 fn target(dir: &Path) -> Result<Target> {
-    let meta = match std::fs::symlink_metadata(dir) {
-        Ok(m) => m,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Target::Fresh),
-        Err(e) => return Err(Error::io(dir, e)),
-    };
-    if !meta.is_dir() {
-        return Err(Error::input(format!("{} exists and is not a directory; not overwriting it", dir.display())));
-    }
-    if std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?.next().is_none() {
+    if crate::util::output_dir_is_fresh(dir)? {
         return Ok(Target::Fresh);
     }
     let marked = std::fs::read_to_string(dir.join("summary.txt")).is_ok_and(|s| s.starts_with(MARK));
@@ -176,13 +168,7 @@ fn commit(tmp: &Path, dir: &Path, expected: Target) -> Result<()> {
         return Err(Error::input(format!("{} changed while the demo ran; not overwriting it", dir.display())));
     }
     match expected {
-        Target::Fresh => {
-            if dir.exists() {
-                // Empty (checked just above): rename cannot replace a directory everywhere.
-                std::fs::remove_dir(dir).map_err(|e| Error::io(dir, e))?;
-            }
-            std::fs::rename(tmp, dir).map_err(|e| Error::io(dir, e))
-        }
+        Target::Fresh => crate::util::move_into_fresh(tmp, dir),
         Target::Demo => crate::util::swap_dir(tmp, dir),
     }
 }

@@ -118,16 +118,7 @@ enum Target {
 impl Target {
     /// Refuses files and non-empty directories that are not sheets.
     fn of(dir: &Path) -> Result<Target> {
-        let meta = match std::fs::symlink_metadata(dir) {
-            Ok(m) => m,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Target::Fresh),
-            Err(e) => return Err(Error::io(dir, e)),
-        };
-        if !meta.is_dir() {
-            return Err(Error::input(format!("{} exists and is not a directory; not overwriting it", dir.display())));
-        }
-        let empty = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?.next().is_none();
-        if empty {
+        if crate::util::output_dir_is_fresh(dir)? {
             Ok(Target::Fresh)
         } else if SHEET_FILES.iter().all(|f| dir.join(f).is_file()) {
             Ok(Target::Sheet)
@@ -150,13 +141,7 @@ impl Target {
             )));
         }
         match self {
-            Target::Fresh => {
-                if dir.exists() {
-                    // Empty (checked just above): rename cannot replace a directory everywhere.
-                    std::fs::remove_dir(dir).map_err(|e| Error::io(dir, e))?;
-                }
-                std::fs::rename(tmp, dir).map_err(|e| Error::io(dir, e))
-            }
+            Target::Fresh => crate::util::move_into_fresh(tmp, dir),
             Target::Sheet => {
                 for f in SHEET_FILES {
                     std::fs::rename(tmp.join(f), dir.join(f)).map_err(|e| Error::io(dir.join(f), e))?;
