@@ -341,6 +341,38 @@ impl Framebuffer {
         }
     }
 
+    /// The target kept in `slot`, made (or remade) when there is none of this size.
+    pub fn sized<'a>(slot: &'a mut Option<Framebuffer>, gl: &Gl, width: usize, height: usize) -> Result<&'a Framebuffer> {
+        if slot.as_ref().is_none_or(|t| t.width() != width || t.height() != height) {
+            // The old target is freed before the new one is made.
+            *slot = None;
+            *slot = Some(Framebuffer::new(gl, width, height)?);
+        }
+        Ok(slot.as_ref().expect("made above"))
+    }
+
+    /// Binds it for an opaque, depth-tested pass: no scissor, blending or culling (meshes are
+    /// drawn two-sided), all colour channels written, colour cleared to (0, 0, 0, 0) and
+    /// depth to 1, depth test `LESS`. The scissor and colour mask are set before the clear,
+    /// which they would otherwise clip (egui leaves a scissor behind).
+    pub fn begin_pass(&self) {
+        self.bind();
+        let gl = &self.gl;
+        // SAFETY: state changes on the current context.
+        unsafe {
+            gl.disable(glow::SCISSOR_TEST);
+            gl.disable(glow::BLEND);
+            gl.disable(glow::CULL_FACE);
+            gl.color_mask(true, true, true, true);
+            gl.clear_color(0.0, 0.0, 0.0, 0.0);
+            gl.clear_depth_f32(1.0);
+            gl.depth_mask(true);
+            gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
+            gl.enable(glow::DEPTH_TEST);
+            gl.depth_func(glow::LESS);
+        }
+    }
+
     pub fn width(&self) -> usize {
         self.color.width()
     }

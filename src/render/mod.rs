@@ -401,27 +401,8 @@ impl Renderer {
     /// (0, 0, 0, 0) and depth to 1, enables the depth test (`LESS`), no blending, no culling
     /// (meshes are drawn two-sided).
     fn begin(&mut self, width: usize, height: usize) -> Result<()> {
-        let reuse = self.target.as_ref().is_some_and(|t| t.width() == width && t.height() == height);
-        if !reuse {
-            self.target = None;
-            self.target = Some(Framebuffer::new(&self.gl, width, height)?);
-        }
-        let target = self.target.as_ref().expect("made above");
-        target.bind();
-        let gl = &self.gl;
-        // SAFETY: state changes on the current context.
-        unsafe {
-            gl.clear_color(0.0, 0.0, 0.0, 0.0);
-            gl.clear_depth_f32(1.0);
-            gl.depth_mask(true);
-            gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
-            gl.enable(glow::DEPTH_TEST);
-            gl.depth_func(glow::LESS);
-            gl.disable(glow::BLEND);
-            gl.disable(glow::CULL_FACE);
-            gl.disable(glow::SCISSOR_TEST);
-        }
-        crate::gl_check!(gl, "target setup");
+        Framebuffer::sized(&mut self.target, &self.gl, width, height)?.begin_pass();
+        crate::gl_check!(self.gl, "target setup");
         Ok(())
     }
 

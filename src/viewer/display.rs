@@ -105,26 +105,9 @@ impl View3d {
         let scale = if scale.is_finite() { scale.clamp(MIN_SCALE, 1.0) } else { 1.0 };
         let reduced = |n: i32| ((n as f32 * scale).round() as usize).max(1);
         let (w, h) = (reduced(rect.width), reduced(rect.height));
-        if self.target.as_ref().is_none_or(|t| t.width() != w || t.height() != h) {
-            self.target = None;
-            self.target = Some(Framebuffer::new(&self.gl, w, h)?);
-        }
-        let target = self.target.as_ref().expect("made above");
+        let target = Framebuffer::sized(&mut self.target, &self.gl, w, h)?;
+        target.begin_pass();
         let gl = &self.gl;
-        target.bind();
-        // SAFETY: state changes on the current context.
-        unsafe {
-            gl.disable(glow::SCISSOR_TEST);
-            gl.disable(glow::BLEND);
-            gl.disable(glow::CULL_FACE);
-            gl.color_mask(true, true, true, true);
-            gl.clear_color(0.0, 0.0, 0.0, 0.0);
-            gl.clear_depth_f32(1.0);
-            gl.depth_mask(true);
-            gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
-            gl.enable(glow::DEPTH_TEST);
-            gl.depth_func(glow::LESS);
-        }
         if let Some(shading) = shading {
             renderer.draw_factored(scene, shading, w, h)?;
         }
