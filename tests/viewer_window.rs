@@ -54,6 +54,17 @@ struct Info {
     light_intensity: f32,
     model: String,
     background: [u8; 3],
+    render_scale: f32,
+}
+
+/// Runs a shell script under a fresh Xvfb screen (1280×800), software GL, scale factor 1.
+fn xvfb(script: &str) -> std::process::Output {
+    Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", script])
+        .env("WINIT_X11_SCALE_FACTOR", "1")
+        .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .output()
+        .unwrap()
 }
 
 /// An XWD file (X Window Dump, ZPixmap, 24/32 bits per pixel) as RGB rows.
@@ -107,12 +118,7 @@ fn the_window_shows_the_material_as_evaluated_on_the_cpu() {
         hold = if take_xwd { 4 } else { 0 },
         xwd = if take_xwd { format!("xwd -root -silent > '{}'", xwd.display()) } else { String::new() },
     );
-    let out = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
-        .env("WINIT_X11_SCALE_FACTOR", "1")
-        .env("LIBGL_ALWAYS_SOFTWARE", "1")
-        .output()
-        .unwrap();
+    let out = xvfb(&script);
     assert!(
         out.status.success() && shot.exists(),
         "viewer under xvfb-run failed: {}\n{}",
@@ -230,7 +236,7 @@ fn the_window_shows_the_material_as_evaluated_on_the_cpu() {
 
 /// Runs the viewer on a material under Xvfb for a few frames and returns its screenshot
 /// and what it reports.
-fn screenshot(material: &Path, extra: &[&str], shot: &Path) -> (image::RgbImage, Info, f32) {
+fn screenshot(material: &Path, extra: &[&str], shot: &Path) -> (image::RgbImage, Info) {
     let args: Vec<String> = extra.iter().map(|a| format!("'{a}'")).collect();
     let script = format!(
         "'{bin}' view '{mat}' --model sphere --window 1024x640 --frames 5 --screenshot '{shot}' {args}",
@@ -239,17 +245,10 @@ fn screenshot(material: &Path, extra: &[&str], shot: &Path) -> (image::RgbImage,
         shot = shot.display(),
         args = args.join(" "),
     );
-    let out = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
-        .env("WINIT_X11_SCALE_FACTOR", "1")
-        .env("LIBGL_ALWAYS_SOFTWARE", "1")
-        .output()
-        .unwrap();
+    let out = xvfb(&script);
     assert!(out.status.success() && shot.exists(), "viewer failed: {}", String::from_utf8_lossy(&out.stderr));
-    let json = std::fs::read(shot.with_extension("json")).unwrap();
-    let info: Info = serde_json::from_slice(&json).unwrap();
-    let scale = serde_json::from_slice::<serde_json::Value>(&json).unwrap()["render_scale"].as_f64().unwrap() as f32;
-    (image::open(shot).unwrap().into_rgb8(), info, scale)
+    let info: Info = serde_json::from_slice(&std::fs::read(shot.with_extension("json")).unwrap()).unwrap();
+    (image::open(shot).unwrap().into_rgb8(), info)
 }
 
 #[test]
@@ -271,8 +270,8 @@ fn a_material_map_keeps_the_view_and_a_reduced_render_scale_matches_full_scale()
     let path = dir.path().join("map");
     material.save(&path).unwrap();
 
-    let (full, info, scale) = screenshot(&path, &[], &dir.path().join("full.png"));
-    assert_eq!(scale, 1.0);
+    let (full, info) = screenshot(&path, &[], &dir.path().join("full.png"));
+    assert_eq!(info.render_scale, 1.0);
     // The tables panel keeps to its size: before, captions of the plots past the panel's
     // width wrapped word by word, the panel grew to its content and the 3D view was 63
     // pixels tall.
@@ -280,8 +279,8 @@ fn a_material_map_keeps_the_view_and_a_reduced_render_scale_matches_full_scale()
     assert!(r.height as f64 > 0.6 * info.window[1] as f64, "the 3D view is {}x{} in a {:?} window", r.width, r.height, info.window);
 
     // At half the resolution, magnified: the same picture, softer.
-    let (half, info_half, scale) = screenshot(&path, &["--render-scale", "0.5"], &dir.path().join("half.png"));
-    assert_eq!(scale, 0.5);
+    let (half, info_half) = screenshot(&path, &["--render-scale", "0.5"], &dir.path().join("half.png"));
+    assert_eq!(info_half.render_scale, 0.5);
     assert_eq!((info_half.view_rect.width, info_half.view_rect.height), (r.width, r.height));
     let (mut total, mut close, mut n, mut same) = (0.0, 0, 0, 0);
     for y in r.y..r.y + r.height {
