@@ -27,40 +27,7 @@ fn compare_at_gbuffer(scene: &Scene, shading: &Shading, w: usize, h: usize) -> (
 
 fn compare_with(ctx: &HeadlessContext, scene: &Scene, shading: &Shading, w: usize, h: usize) -> (f64, usize) {
     let mut r = Renderer::new(ctx.gl()).unwrap();
-    let gpu = GpuScene::upload(ctx.gl(), scene).unwrap();
-    let image = r.factored(&gpu, &r.upload(shading).unwrap(), w, h).unwrap();
-    let g = r.gbuffer(&gpu, w, h).unwrap();
-    let (rgb, light_pos) = match scene.light {
-        Light::Directional { color, intensity, .. } => (color * intensity, None),
-        Light::Point { position, color, intensity } => (color * intensity, Some(position)),
-    };
-    let (mut worst, mut n) = (0.0f64, 0usize);
-    for j in 0..h {
-        for i in 0..w {
-            let px = g.at(i, j);
-            let got = image.at(i, j);
-            let Some(q) = px.query() else {
-                assert_eq!(got, [0.0; 4], "background at ({i}, {j})");
-                continue;
-            };
-            assert_eq!(got[3], 1.0, "coverage alpha at ({i}, {j})");
-            let falloff = light_pos.map_or(1.0, |p| 1.0 / (p - px.position).as_dvec3().length_squared());
-            let s = cpu_shading(shading, &q);
-            let want = [0, 1, 2].map(|c| s[c] * rgb[c] as f64 * falloff);
-            let scale = want.iter().fold(1.0f64, |m, x| m.max(x.abs()));
-            let e = rel_err(got, want, scale);
-            assert!(
-                e < TABLE_TOL,
-                "pixel ({i}, {j}): GL {got:?} vs CPU {want:?} (rel {e:.2e}); l {:?} v {:?} uv {:?}",
-                q.l,
-                q.v,
-                q.uv
-            );
-            worst = worst.max(e);
-            n += 1;
-        }
-    }
-    (worst, n)
+    compare_gl(&mut r, scene, shading, w, h, TABLE_TOL, "CPU", |q| cpu_shading(shading, q))
 }
 
 /// Scenes covering both camera kinds, both light kinds, lights below the horizon of part

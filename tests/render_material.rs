@@ -8,7 +8,7 @@ use brdfpaint::brdf::{Analytic, SphereView};
 use brdfpaint::factor::{prepare, Domain, Input, LogMap, Mapping, Param, Settings};
 use brdfpaint::gl::HeadlessContext;
 use brdfpaint::material::{Coefficients, Factor, Kind, Material, Provenance, Term};
-use brdfpaint::render::{GpuScene, Renderer, Shading};
+use brdfpaint::render::{Renderer, Shading};
 use brdfpaint::scene::{Light, Scene};
 use gl_common::*;
 use glam::{DVec3, Vec3};
@@ -93,43 +93,8 @@ fn scenes() -> Vec<(&'static str, Scene, usize, usize)> {
 }
 
 /// Worst error over covered pixels of the GL image against `material.eval`; pixel count.
-fn compare(
-    r: &mut Renderer,
-    ctx: &HeadlessContext,
-    material: &Material,
-    shading: &Shading,
-    scene: &Scene,
-    w: usize,
-    h: usize,
-) -> (f64, usize) {
-    let gpu = GpuScene::upload(ctx.gl(), scene).unwrap();
-    let image = r.factored(&gpu, &r.upload(shading).unwrap(), w, h).unwrap();
-    let g = r.gbuffer(&gpu, w, h).unwrap();
-    let (rgb, light_at) = match scene.light {
-        Light::Directional { color, intensity, .. } => (color * intensity, None),
-        Light::Point { position, color, intensity } => (color * intensity, Some(position)),
-    };
-    let (mut worst, mut n) = (0.0f64, 0);
-    for j in 0..h {
-        for i in 0..w {
-            let px = g.at(i, j);
-            let got = image.at(i, j);
-            let Some(q) = px.query() else {
-                assert_eq!(got, [0.0; 4], "background at ({i}, {j})");
-                continue;
-            };
-            // glTF point lights: 1/d² from the surface point to the light.
-            let falloff = light_at.map_or(1.0, |p| 1.0 / (p - px.position).as_dvec3().length_squared());
-            let s = material.eval(&q);
-            let want = [0, 1, 2].map(|c| s[c] * rgb[c] as f64 * falloff);
-            let scale = want.iter().fold(1.0f64, |m, x| m.max(x.abs()));
-            let e = rel_err(got, want, scale);
-            assert!(e < TOL, "pixel ({i}, {j}): GL {got:?} vs Material::eval {want:?} (rel {e:.2e}); q {q:?}");
-            worst = worst.max(e);
-            n += 1;
-        }
-    }
-    (worst, n)
+fn compare(r: &mut Renderer, material: &Material, shading: &Shading, scene: &Scene, w: usize, h: usize) -> (f64, usize) {
+    compare_gl(r, scene, shading, w, h, TOL, "Material::eval", |q| material.eval(q))
 }
 
 fn check(name: &str, material: &Material) {
@@ -138,7 +103,7 @@ fn check(name: &str, material: &Material) {
     let ctx = HeadlessContext::new().unwrap();
     let mut r = Renderer::new(ctx.gl()).unwrap();
     for (scene_name, scene, w, h) in scenes() {
-        let (worst, n) = compare(&mut r, &ctx, &loaded, &shading, &scene, w, h);
+        let (worst, n) = compare(&mut r, &loaded, &shading, &scene, w, h);
         eprintln!("{name} / {scene_name}: {n} pixels, worst relative error {worst:.2e}");
         assert!(n > 2000, "{name} / {scene_name}: only {n} pixels");
     }

@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use brdfpaint::factor::{system, table, Domain, FactorSpec, Input, Param, Query};
-use brdfpaint::render::{mesh::uv_sphere, CoefTexture, FactorTexture, Shading};
+use brdfpaint::render::{mesh::uv_sphere, CoefTexture, FactorTexture, GpuScene, Renderer, Shading};
 use brdfpaint::scene::{Camera, Light, Projection, Scene};
 use glam::{DVec3, Mat4, Vec3, Vec4};
 use rand::{Rng, SeedableRng};
@@ -145,6 +145,60 @@ pub fn cpu_shading(shading: &Shading, q: &Query) -> [f64; 3] {
         }
     }
     sum
+}
+
+/// Renders `shading` on `scene` at `w` × `h` with the factored shader, and its G-buffer; every
+/// covered pixel must be opaque and match `expected` at the G-buffer's query (l, v, uv) times
+/// the light's colour × intensity and, for a point light, 1/d² from the G-buffer's world
+/// position, within `tol` relative to max(|expected|, 1); every other pixel must be
+/// (0, 0, 0, 0). `what` names the expectation in messages. Returns the worst relative error
+/// and the number of pixels compared.
+#[allow(clippy::too_many_arguments)]
+pub fn compare_gl(
+    r: &mut Renderer,
+    scene: &Scene,
+    shading: &Shading,
+    w: usize,
+    h: usize,
+    tol: f64,
+    what: &str,
+    expected: impl Fn(&Query) -> [f64; 3],
+) -> (f64, usize) {
+    let gpu = GpuScene::upload(r.gl(), scene).unwrap();
+    let image = r.factored(&gpu, &r.upload(shading).unwrap(), w, h).unwrap();
+    let g = r.gbuffer(&gpu, w, h).unwrap();
+    let (rgb, light_at) = match scene.light {
+        Light::Directional { color, intensity, .. } => (color * intensity, None),
+        Light::Point { position, color, intensity } => (color * intensity, Some(position)),
+    };
+    let (mut worst, mut n) = (0.0f64, 0usize);
+    for j in 0..h {
+        for i in 0..w {
+            let px = g.at(i, j);
+            let got = image.at(i, j);
+            let Some(q) = px.query() else {
+                assert_eq!(got, [0.0; 4], "background at ({i}, {j})");
+                continue;
+            };
+            assert_eq!(got[3], 1.0, "coverage alpha at ({i}, {j})");
+            // glTF point lights: 1/d² from the surface point to the light.
+            let falloff = light_at.map_or(1.0, |p| 1.0 / (p - px.position).as_dvec3().length_squared());
+            let s = expected(&q);
+            let want = [0, 1, 2].map(|c| s[c] * rgb[c] as f64 * falloff);
+            let scale = want.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            let e = rel_err(got, want, scale);
+            assert!(
+                e < tol,
+                "pixel ({i}, {j}): GL {got:?} vs {what} {want:?} (rel {e:.2e}); l {:?} v {:?} uv {:?}",
+                q.l,
+                q.v,
+                q.uv
+            );
+            worst = worst.max(e);
+            n += 1;
+        }
+    }
+    (worst, n)
 }
 
 /// Largest error of `got` against `want` relative to `scale`, over channels.
