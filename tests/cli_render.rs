@@ -259,13 +259,7 @@ fn sheet_round_trips_its_scene_and_its_images_agree_with_the_geometry() {
         for c in 0..3 {
             let decoded = srgb_to_linear(code[c] as f32 / 255.0) as f64;
             // Within one 8-bit step of the closed form, measured in encoded units.
-            let step = (code[c] as f64 / 255.0 - linear_to_srgb(want_rgb[c] as f32) as f64).abs();
-            assert!(
-                step <= 1.0 / 255.0 + 1e-6,
-                "({i}, {j}) channel {c}: code {} decodes to {decoded}, closed form {}",
-                code[c],
-                want_rgb[c]
-            );
+            assert_within_one_code(code[c], want_rgb[c], || format!("({i}, {j}) channel {c}: decodes to {decoded}"));
             worst = worst.max((decoded - want_rgb[c]).abs());
         }
         checked += 1;
@@ -323,13 +317,7 @@ fn sheet_reference_is_exposed_for_a_physical_point_light() {
             let e = [1.0, 0.9, 0.8].map(|c| c * 200.0 / to_light.length_squared() * exposure);
             let want = lambert_phong(p, to_light.normalize(), v, e);
             for c in 0..3 {
-                let step = (px[j * w + i][c] as f64 / 255.0 - linear_to_srgb(want[c] as f32) as f64).abs();
-                assert!(
-                    step <= 1.0 / 255.0 + 1e-6,
-                    "({i}, {j}) channel {c}: code {} vs closed form {}",
-                    px[j * w + i][c],
-                    want[c]
-                );
+                assert_within_one_code(px[j * w + i][c], want[c], || format!("({i}, {j}) channel {c}: closed form"));
             }
             checked += 1;
         }
@@ -485,14 +473,7 @@ fn render_exr_and_png_equal_material_eval_times_the_light() {
                 let e = (got[c] as f64 - want[c]).abs() / want[c].abs().max(0.05);
                 assert!(e < 2e-3, "({i}, {j}) channel {c}: EXR {} vs Material::eval x light {}", got[c], want[c]);
                 worst = worst.max(e);
-                let code = codes[j * w + i][c] as f64 / 255.0;
-                let step = (code - linear_to_srgb(want[c] as f32) as f64).abs();
-                assert!(
-                    step <= 1.0 / 255.0 + 1e-6,
-                    "({i}, {j}) channel {c}: PNG code {} vs {}",
-                    codes[j * w + i][c],
-                    want[c]
-                );
+                assert_within_one_code(codes[j * w + i][c], want[c], || format!("({i}, {j}) channel {c}: PNG"));
             }
             n += 1;
         }
@@ -755,4 +736,11 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         2
     );
     assert_eq!(brdfpaint(&["sheet", "--model", "sphere"]).0, 2, "no --out");
+}
+
+/// An 8-bit sRGB code within one step of the linear value `want` encoded, measured in
+/// encoded units; `what` says where, for the message.
+fn assert_within_one_code(code: u8, want: f64, what: impl Fn() -> String) {
+    let step = (code as f64 / 255.0 - linear_to_srgb(want as f32) as f64).abs();
+    assert!(step <= 1.0 / 255.0 + 1e-6, "{}: code {code} vs linear {want}", what());
 }
