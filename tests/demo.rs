@@ -298,7 +298,7 @@ fn spatially_varying_wood_holds_under_new_lights() {
     assert!(map < 0.5 * uniform && map < 0.3, "held-out: map {map:.4}, uniform {uniform:.4}");
     // The truth is evaluated at each pixel's uv, and the map has learnt where the stripes
     // are: against the stripes swapped (lacquer where the bare wood is) it is far off.
-    let swapped = Truth::Banded { a: paintings::bare_wood(), b: paintings::lacquer(), bands: paintings::WOOD_BANDS };
+    let swapped = Truth::Banded(brdfpaint::brdf::Striped { a: paintings::bare_wood(), b: paintings::lacquer(), bands: paintings::WOOD_BANDS });
     let against_swapped = judge(&w.map, &swapped);
     assert!(against_swapped > 2.0 * map, "against swapped stripes {against_swapped}, against the stripes {map}");
 }
@@ -310,11 +310,13 @@ fn spatially_varying_wood_coefficients_separate_the_stripes() {
     // carry one stripe are not those that carry the other (five terms for two materials:
     // a material may take several terms, e.g. for its brush noise, but no term is shared).
     let w = wood();
-    let truth = paintings::wood();
+    let truth = paintings::wood_stripes();
     let bands = paintings::WOOD_BANDS as f64;
     let (lacquered, bare) = (2.5 / bands, 3.5 / bands);
-    assert_eq!(truth.band(lacquered) % 2, 0, "stripe 2 is lacquered");
-    assert_eq!(truth.band(bare) % 2, 1, "stripe 3 is bare");
+    assert_eq!(truth.band(lacquered), 2);
+    assert_eq!(truth.region(lacquered), 0, "stripe 2 is lacquered");
+    assert_eq!(truth.band(bare), 3);
+    assert_eq!(truth.region(bare), 1, "stripe 3 is bare");
     let coefficients = |u: f64, v: f64| -> Vec<f64> {
         w.map.terms.iter().map(|t| t.coefficients.as_ref().expect("a material map term has coefficients").lookup(DVec2::new(u, v)).iter().sum::<f64>() / 3.0).collect()
     };

@@ -26,13 +26,21 @@ impl Striped {
         }
     }
 
-    /// Which BRDF (0: `a`, 1: `b`) is at texture coordinate `u` (`a` everywhere without
-    /// bands).
-    pub fn region(&self, u: f64) -> usize {
+    /// The stripe $\lfloor u \cdot \text{bands} \rfloor \bmod \text{bands}$ that texture
+    /// coordinate `u` lies in (0 without bands). Stripes wrap around: $u$ and $u + 1$ are the
+    /// same point of a closed surface, so $u = 1$ is stripe 0.
+    pub fn band(&self, u: f64) -> usize {
         if self.bands == 0 {
             return 0;
         }
-        ((u.clamp(0.0, 1.0) * self.bands as f64).floor() as usize).min(self.bands - 1) % 2
+        let x = (u * self.bands as f64).floor().rem_euclid(self.bands as f64);
+        // A non-finite u (never from a G-buffer or a sphere view) falls in stripe 0.
+        if x.is_finite() { (x as usize).min(self.bands - 1) } else { 0 }
+    }
+
+    /// Which BRDF (0: `a`, 1: `b`) is at texture coordinate `u`.
+    pub fn region(&self, u: f64) -> usize {
+        self.band(u) % 2
     }
 
     /// The shading function at a query, with its uv.

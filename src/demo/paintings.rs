@@ -17,7 +17,7 @@
 use glam::Vec3;
 
 use super::brush::{self, Brush};
-use crate::brdf::{Abc, Analytic};
+use crate::brdf::{Abc, Analytic, Striped};
 use crate::error::{Error, Result};
 use crate::factor::Query;
 use crate::images::{encode_srgb8, Rgb};
@@ -70,9 +70,9 @@ pub enum Truth {
     Abc { model: Abc, exposure: f64 },
     /// A MatCap: no known shading function.
     Matcap { name: &'static str },
-    /// A spatially varying material: `bands` stripes of equal width in the surface's $u$
-    /// (on the sphere, slices of azimuth), alternately `a` (from $u = 0$) and `b`.
-    Banded { a: Analytic, b: Analytic, bands: usize },
+    /// A spatially varying material: stripes of equal width in the surface's $u$ (on the
+    /// sphere, slices of azimuth) of two analytic models.
+    Banded(Striped),
 }
 
 impl Truth {
@@ -84,27 +84,13 @@ impl Truth {
             Truth::Analytic(a) => Some(a.shading(l, v)),
             Truth::Abc { model, exposure } => Some(model.shading(l, v).map(|x| x * exposure)),
             Truth::Matcap { .. } => None,
-            Truth::Banded { a, b, .. } => Some(if self.band(q.uv.x) % 2 == 0 { a } else { b }.shading(l, v)),
-        }
-    }
-
-    /// The stripe $\lfloor u \cdot \text{bands} \rfloor \bmod \text{bands}$ that surface
-    /// coordinate `u` lies in (0 for the materials that have none). Stripes wrap around: $u$
-    /// and $u + 1$ are the same point of a closed surface, so $u = 1$ is stripe 0.
-    pub fn band(&self, u: f64) -> usize {
-        match *self {
-            Truth::Banded { bands, .. } if bands > 0 => {
-                let x = (u * bands as f64).floor().rem_euclid(bands as f64);
-                // A non-finite u (never from a G-buffer) falls in stripe 0.
-                if x.is_finite() { (x as usize).min(bands - 1) } else { 0 }
-            }
-            _ => 0,
+            Truth::Banded(stripes) => Some(stripes.shading(q)),
         }
     }
 
     /// Whether the shading varies over the surface (a material map fits it).
     pub fn is_spatial(&self) -> bool {
-        matches!(self, Truth::Banded { .. })
+        matches!(self, Truth::Banded(_))
     }
 
     /// Whether the shading function is known.
@@ -120,7 +106,7 @@ impl Truth {
             Truth::Analytic(a) => a.name(),
             Truth::Abc { model, .. } => format!("MERL {} (ABC)", model.name),
             Truth::Matcap { name } => format!("MatCap {name} (CC0)"),
-            Truth::Banded { bands, .. } => format!("wood, {bands} bands"),
+            Truth::Banded(stripes) => format!("wood, {} bands", stripes.bands),
         }
     }
 }
@@ -196,7 +182,12 @@ pub fn bare_wood() -> Analytic {
 /// the second view on a lacquered one (-90° to -45°): together they show how each material
 /// answers the light where it is brightest.
 pub fn wood() -> Truth {
-    Truth::Banded { a: lacquer(), b: bare_wood(), bands: WOOD_BANDS }
+    Truth::Banded(wood_stripes())
+}
+
+/// The wood's stripes.
+pub fn wood_stripes() -> Striped {
+    Striped { a: lacquer(), b: bare_wood(), bands: WOOD_BANDS }
 }
 
 /// Stripes of the wood.
