@@ -464,8 +464,7 @@ impl Coverage {
     }
 
     fn cell(uv: glam::DVec2) -> usize {
-        let t = crate::factor::param::uv_forward(uv) * (Self::RES - 1) as f64;
-        t.y.round() as usize * Self::RES + t.x.round() as usize
+        crate::factor::param::uv_nearest_node(uv, Self::RES)
     }
 
     /// Whether texture coordinates fall in a painted cell.

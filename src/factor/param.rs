@@ -167,6 +167,13 @@ pub fn uv_forward(uv: DVec2) -> DVec2 {
     uv.clamp(DVec2::ZERO, DVec2::ONE)
 }
 
+/// Index (row by row) of the node of a `res` × `res` uv table nearest to texture coordinates
+/// `uv`, nodes at $t_i = i/(res - 1)$.
+pub fn uv_nearest_node(uv: DVec2, res: usize) -> usize {
+    let t = uv_forward(uv) * (res - 1) as f64;
+    t.y.round() as usize * res + t.x.round() as usize
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

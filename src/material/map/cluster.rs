@@ -304,12 +304,7 @@ impl Near {
     fn new(grids: &[Grid], layout: &Layout, n: usize) -> Near {
         // About eight samples a cell where the paintings cover the texture evenly.
         let res = (((n / 8) as f64).sqrt().round() as usize).clamp(8, layout.res);
-        let cell = (0..n)
-            .map(|i| {
-                let t = crate::factor::param::uv_forward(layout.uv(i)) * (res - 1) as f64;
-                (t.y.round() as usize * res + t.x.round() as usize) as u32
-            })
-            .collect();
+        let cell = (0..n).map(|i| crate::factor::param::uv_nearest_node(layout.uv(i), res) as u32).collect();
         Near { pixels: neighbours(grids, n), cell, cells: res * res }
     }
 }

@@ -37,15 +37,7 @@ pub(super) struct Layout<'a> {
 
 impl<'a> Layout<'a> {
     pub fn new(res: usize, pattern: &'a Pattern, grids: &[Grid]) -> Layout<'a> {
-        let node = pattern
-            .queries
-            .iter()
-            .map(|q| {
-                let t = crate::factor::param::uv_forward(q.uv);
-                let (x, y) = ((t.x * (res - 1) as f64).round() as usize, (t.y * (res - 1) as f64).round() as usize);
-                y * res + x
-            })
-            .collect();
+        let node = pattern.queries.iter().map(|q| crate::factor::param::uv_nearest_node(q.uv, res)).collect();
         Layout { res, node, triangles: triangulate(grids, pattern), pattern }
     }
 
