@@ -2,6 +2,7 @@
 //! `cargo bench --bench factor`. `brdfpaint bench` prints the full tables with the thesis's
 //! figures beside ours.
 
+use brdfpaint::brdf::Reflectance;
 use brdfpaint::brdf::{Analytic, SphereView};
 use brdfpaint::factor::{prepare, LogMap, Pattern, Settings};
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -20,7 +21,7 @@ fn cases(c: &mut Criterion) {
         ("3x2D M=32 100k", sphere(360), Settings::uniform(2, 32)),
     ];
     for (name, pattern, settings) in &table {
-        let values = pattern.shade(|l, v| model.shading(l, v));
+        let values = pattern.shade(|q| model.shading(q));
         let prepared = prepare(pattern, settings).expect("prepare");
         let mut g = c.benchmark_group(*name);
         g.sample_size(if pattern.len() > 50_000 { 10 } else { 30 });

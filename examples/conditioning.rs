@@ -3,7 +3,9 @@
 //!
 //! `cargo run --release --example conditioning [-- sweep]`
 
-use brdfpaint::brdf::{held_out_views, painted_views, relative_rms, Analytic, SphereView};
+use brdfpaint::brdf::Reflectance;
+use brdfpaint::brdf::{held_out_views, painted_views, Analytic, SphereView};
+use brdfpaint::study::sphere_rms;
 use brdfpaint::factor::{defaults, prepare, Mapping, Pattern, Settings};
 
 fn training(n: usize, res: usize) -> Vec<SphereView> {
@@ -11,7 +13,7 @@ fn training(n: usize, res: usize) -> Vec<SphereView> {
 }
 
 fn held_out(model: &Analytic, settings: &Settings, fit: &brdfpaint::factor::Fit) -> f64 {
-    relative_rms(&held_out_views(48), |q| model.shading(q.l, q.v), |q| fit.eval(settings, q))
+    sphere_rms(&held_out_views(48), |q| model.shading(&q), |q| fit.eval(settings, q))
 }
 
 fn study(settings: &Settings, views: usize, mapping: Mapping, verbose: bool) -> f64 {
@@ -20,7 +22,7 @@ fn study(settings: &Settings, views: usize, mapping: Mapping, verbose: bool) -> 
     let prepared = prepare(&pattern, settings).expect("prepare");
     let mut errs = Vec::new();
     for model in Analytic::suite() {
-        let values = pattern.shade(|l, v| model.shading(l, v));
+        let values = pattern.shade(|q| model.shading(q));
         let fit = prepared.solve(&values, mapping).expect("solve");
         let e = held_out(&model, settings, &fit);
         if verbose {
@@ -91,7 +93,7 @@ pub fn probe() {
         for f in s.factors.iter_mut() { f.smooth = smooth; f.damp = 0.0; }
         let pattern = training(1, 100)[0].pattern();
         let prepared = prepare(&pattern, &s).unwrap();
-        let values = pattern.shade(|l, v| model.shading(l, v));
+        let values = pattern.shade(|q| model.shading(q));
         for m in [Mapping::Identity, Mapping::Offset(None)] {
             let fit = prepared.solve(&values, m).unwrap();
             println!("smooth {smooth:e} res {res} {}: train {:.4} held {:.4}", fit.map.name(), fit.errors.rms_relative, held_out(&model, &s, &fit));

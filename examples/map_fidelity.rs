@@ -3,7 +3,9 @@
 //!
 //! `cargo run --release --example map_fidelity`
 
-use brdfpaint::brdf::{relative_rms, Striped};
+use brdfpaint::brdf::Reflectance;
+use brdfpaint::brdf::{Striped};
+use brdfpaint::study::sphere_rms;
 use brdfpaint::factor::{prepare, Settings};
 use brdfpaint::material::map::{self, MapOptions, Method};
 
@@ -18,7 +20,7 @@ fn main() -> brdfpaint::Result<()> {
             for terms in 1..=5 {
                 let opts = MapOptions { terms, min_gain: 0.0, method, ..Default::default() };
                 let (m, report) = map::fit(&prepared, &pattern, &values, &grids, &opts)?;
-                let h = relative_rms(&held, |q| object.shading(q), |q| m.eval(q));
+                let h = sphere_rms(&held, |q| object.shading(q), |q| m.shading(q));
                 println!(
                     "views {views} {method:?} J={terms} (got {}) train rms {:.4} max {:.3} rel {:.4}  held-out rel {:.4}  {:.1} ms",
                     m.terms.len(),

@@ -5,7 +5,7 @@
 
 use brdfpaint::brdf::Analytic;
 use brdfpaint::factor::Settings;
-use brdfpaint::sample::fidelity::{held_out_presets, measure, median, painted_presets, PaintFormat, StudyView};
+use brdfpaint::study::fidelity::{held_out_median as median, held_out_presets, measure, painted_presets, PaintFormat, StudyView};
 use brdfpaint::sample::SceneSampler;
 
 fn main() -> brdfpaint::Result<()> {

@@ -4,8 +4,9 @@
 // pass each and added by blending.
 //
 // Compile-time layout (prepended #defines, see src/render/shading.rs):
-//   NUM_FACTORS 0..6; F<k>_INPUT, F<k>_PARAM, F<k>_DOMAIN per factor (param.glsl codes);
-//   F<k>_DIM 1 or 2; MAP_KIND 0 identity, 1 offset, 2 inverted; HAS_COEF 0 or 1.
+//   NUM_FACTORS 0..6; F<k>_INPUT, F<k>_PARAM, F<k>_DOMAIN per factor and MAP_KIND name
+//   param.glsl's codes (INPUT_LIGHT, PARAM_RADIUS, DOMAIN_SPHERE, MAP_OFFSET, ...), the one
+//   place they are defined; F<k>_DIM 1 or 2; HAS_COEF 0 or 1.
 // Uniforms: u_factor<k> (sampler), u_res<k> (nodes per axis), u_map_a (per-channel a),
 //   u_coef (sampler) and u_coef_size (texels per axis).
 
@@ -59,9 +60,9 @@ void main() {
 #endif
 
     // Inverse of the log mapping (thesis eq. 3.14, 3.16), clamped at zero.
-#if MAP_KIND == 1
+#if MAP_KIND == MAP_OFFSET
     vec3 f = max(prod - u_map_a, 0.0);
-#elif MAP_KIND == 2
+#elif MAP_KIND == MAP_INVERTED
     vec3 f = max(u_map_a - prod, 0.0);
 #else
     vec3 f = max(prod, 0.0);

@@ -15,6 +15,11 @@
 #define DOMAIN_HEMISPHERE 0
 #define DOMAIN_SPHERE 1
 
+// Log mappings (thesis 3.2.3), inverted per channel and clamped at zero.
+#define MAP_IDENTITY 0
+#define MAP_OFFSET 1
+#define MAP_INVERTED 2
+
 // Extended radius: $\tan(\theta/2)$ above the horizon, $2 - \tan((\pi-\theta)/2)$ below.
 float theta_to_rho(float c, float s) {
     return c >= 0.0 ? s / (1.0 + c) : 2.0 - s / (1.0 - c);

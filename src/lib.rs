@@ -27,24 +27,25 @@
 //! let pattern: Pattern = view.pattern();
 //! let prepared = prepare(&pattern, &Settings::default()).unwrap();
 //! let lambert = Analytic::Lambert { albedo: [0.8, 0.5, 0.2] };
-//! let values = pattern.shade(|l, v| lambert.shading(l, v));
+//! let values = pattern.shade(|q| lambert.shading(q));
 //! let fit = prepared.solve(&values, Mapping::Auto).unwrap();
 //! assert!(fit.errors.rms_relative < 0.05);
 //! ```
 
-pub mod bench;
 pub mod brdf;
-pub mod cli;
 pub mod demo;
 pub mod error;
 pub mod factor;
 pub mod gl;
 pub mod images;
 pub mod material;
+pub mod pipeline;
 pub mod render;
 pub mod sample;
 pub mod scene;
+pub mod study;
 pub mod util;
+#[cfg(feature = "viewer")]
 pub mod viewer;
 
 pub use error::{Error, Result};

@@ -1,3 +1,11 @@
+//! The `brdfpaint` binary: the command line ([`cli`]) over the library.
+
+mod cli;
+
 fn main() -> std::process::ExitCode {
-    brdfpaint::cli::run()
+    // A panic is a bug, never the answer to bad input; say so in one line, not a backtrace.
+    std::panic::set_hook(Box::new(|info| {
+        eprintln!("error: internal error (please report): {info}");
+    }));
+    cli::run()
 }

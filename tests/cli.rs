@@ -1,5 +1,6 @@
 //! The command line, run as a user runs it: exit codes, one-line errors, outputs.
 
+use brdfpaint::brdf::Reflectance;
 use std::process::Command;
 
 use brdfpaint::brdf::{Analytic, Merl};
@@ -30,7 +31,7 @@ fn fit_merl_writes_a_material_that_reproduces_the_data() {
     for i in 0..40 {
         for j in 0..40 {
             let q = Query { l: dir_at(0.03 + i as f64 * 0.035, 0.3), v: dir_at(0.02 + j as f64 * 0.035, 2.0 + i as f64 * 0.01), uv: DVec2::ZERO };
-            let (got, want) = (m.eval(&q), model.shading(q.l, q.v));
+            let (got, want) = (m.shading(&q), model.shading(&q));
             for c in 0..3 {
                 num += (got[c] - want[c]).powi(2);
                 den += want[c].powi(2);

@@ -4,6 +4,7 @@
 
 mod gl_common;
 
+use brdfpaint::brdf::Reflectance;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -67,7 +68,7 @@ fn fitted_material(dir: &Path) -> (PathBuf, Material) {
     let pattern = SphereView::new(DVec3::new(-0.5, 0.5, 1.0), 64).pattern();
     let settings = Settings::uniform(1, 64);
     let fit =
-        prepare(&pattern, &settings).unwrap().solve(&pattern.shade(|l, v| model.shading(l, v)), Mapping::Auto).unwrap();
+        prepare(&pattern, &settings).unwrap().solve(&pattern.shade(|q| model.shading(q)), Mapping::Auto).unwrap();
     let material = Material::from_fit(&settings, &fit, Provenance::default()).unwrap();
     let path = dir.join("mat");
     material.save(&path).unwrap();
@@ -466,7 +467,7 @@ fn render_exr_and_png_equal_material_eval_times_the_light() {
             }
             let to_light = light_at - p;
             let q = SphereView::query(p, to_light.normalize(), v);
-            let s_val = material.eval(&q);
+            let s_val = material.shading(&q);
             let want = [0, 1, 2].map(|c| s_val[c] * rgb[c] / to_light.length_squared());
             for c in 0..3 {
                 // The tessellated sphere's normals are within ~1e-4 rad of the analytic ones.

@@ -10,8 +10,9 @@ use brdfpaint::demo::paintings::{self, Truth};
 use brdfpaint::images::Painting;
 use brdfpaint::factor::{Mapping, Settings};
 use brdfpaint::material::{Kind, Material};
-use brdfpaint::sample::fidelity::{held_out_error, held_out_presets, StudyView};
-use brdfpaint::sample::{self, Erosion, Samples, SceneSampler};
+use brdfpaint::study::fidelity::held_out_presets;
+use brdfpaint::study::{held_out_error, StudyView};
+use brdfpaint::sample::{Erosion, Samples, SceneSampler};
 use glam::DVec2;
 
 mod cli_common;
@@ -117,7 +118,7 @@ fn held_out(name: &str, model: &Analytic) -> f64 {
     let held: Vec<StudyView> =
         held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, 128).unwrap()).collect();
     let material = Material::load(&runs().dir.join("materials").join(name)).unwrap();
-    held_out_error(&material, model, &held).unwrap()
+    held_out_error(&material, model, &held, None).unwrap()
 }
 
 #[test]
@@ -235,7 +236,7 @@ struct Wood {
     uniform_train: f64,
     held: Vec<StudyView>,
     /// Where the paintings saw the surface.
-    painted: brdfpaint::demo::Coverage,
+    painted: brdfpaint::study::Coverage,
 }
 
 fn wood() -> &'static Wood {
@@ -254,7 +255,7 @@ fn wood() -> &'static Wood {
             .collect();
         let samples = Samples::gather(&views).unwrap();
         let settings = Settings::uniform(1, brdfpaint::factor::defaults::RES_1D);
-        let fitted = sample::fit(&samples, &settings, Mapping::Auto, None).unwrap();
+        let fitted = brdfpaint::pipeline::solve(&samples, &settings, Mapping::Auto, None).unwrap();
         let uniform = Material::from_fit(&settings, &fitted.fit, Default::default()).unwrap();
         let held = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, 128).unwrap()).collect();
         Wood {
@@ -262,7 +263,7 @@ fn wood() -> &'static Wood {
             uniform,
             uniform_train: fitted.fit.errors.rms_relative,
             held,
-            painted: brdfpaint::demo::Coverage::of(&views),
+            painted: brdfpaint::study::Coverage::of(&views),
         }
     })
 }
@@ -286,7 +287,7 @@ fn spatially_varying_wood_holds_under_new_lights() {
     let w = wood();
     let summary = &runs().first.stdout;
     let truth = paintings::wood();
-    let judge = |m: &Material, t: &Truth| brdfpaint::demo::held_out_error(m, t, &w.held, Some(&w.painted)).unwrap();
+    let judge = |m: &Material, t: &Truth| brdfpaint::study::held_out_error(m, t, &w.held, Some(&w.painted)).unwrap();
     let (map, uniform) = (judge(&w.map, &truth), judge(&w.uniform, &truth));
     let reported: f64 = column(summary, "lacquered-wood", HELD_OUT).parse().unwrap();
     assert!((reported - map).abs() < 1e-3, "summary says {reported}, recomputed {map}");

@@ -2,6 +2,7 @@
 //! smooth separable functions, the prepare/solve split, the pseudo-inverse variants, and bad
 //! input.
 
+use brdfpaint::brdf::Reflectance;
 use std::sync::Arc;
 
 use brdfpaint::factor::table::{lookup_1d, lookup_2d};
@@ -169,7 +170,7 @@ fn prepare_then_solve_equals_a_fresh_prepare_and_solve() {
     let settings = Settings::default();
     let prepared = prepare(&pattern, &settings).unwrap();
     for model in brdfpaint::brdf::Analytic::suite().iter().take(4) {
-        let values = pattern.shade(|l, v| model.shading(l, v));
+        let values = pattern.shade(|q| model.shading(q));
         let reused = prepared.solve(&values, Mapping::Offset(None)).unwrap();
         let fresh = prepare(&pattern, &settings).unwrap().solve(&values, Mapping::Offset(None)).unwrap();
         for (a, b) in reused.tables.iter().flatten().zip(fresh.tables.iter().flatten()) {
@@ -192,7 +193,7 @@ fn pseudo_inverse_variants_without_filtering_equal_cholesky() {
         f.smooth = 1e-2;
     }
     let model = brdfpaint::brdf::Analytic::suite()[2].clone();
-    let values = pattern.shade(|l, v| model.shading(l, v));
+    let values = pattern.shade(|q| model.shading(q));
     let chol = prepare(&pattern, &base).unwrap().solve(&values, Mapping::Identity).unwrap();
     for method in [Method::TruncatedSvd { rel_tol: 0.0 }, Method::DampedSvd { alpha: 0.0 }, Method::LinearSvd { gamma: 0.0 }] {
         let settings = Settings { method, ..base.clone() };
@@ -219,7 +220,7 @@ fn filtering_reduces_the_solution_norm() {
     // factor in [0, 1]), and gamma = 1 keeps only the first basis vector.
     let pattern = brdfpaint::brdf::SphereView::new(DVec3::new(0.3, 0.4, 1.0), 30).pattern();
     let model = brdfpaint::brdf::Analytic::suite()[1].clone();
-    let values = pattern.shade(|l, v| model.shading(l, v));
+    let values = pattern.shade(|q| model.shading(q));
     let norm = |method| {
         let settings = Settings { method, ..Settings::uniform(1, 24) };
         let p = prepare(&pattern, &settings).unwrap();

@@ -2,7 +2,9 @@
 //! painted on a sphere, fitted with the default settings, and compared with the true BRDF
 //! under held-out lights and cameras.
 
-use brdfpaint::brdf::{held_out_views, painted_views, relative_rms, Analytic};
+use brdfpaint::brdf::Reflectance;
+use brdfpaint::brdf::{held_out_views, painted_views, Analytic};
+use brdfpaint::study::sphere_rms;
 use brdfpaint::factor::{prepare, Mapping, Pattern, Settings};
 
 /// Held-out relative RMS of every suite model fitted from `views` painted views with the
@@ -18,9 +20,9 @@ fn suite_errors_with(views: usize, settings: &Settings) -> Vec<(String, f64)> {
     Analytic::suite()
         .into_iter()
         .map(|model| {
-            let values = pattern.shade(|l, v| model.shading(l, v));
+            let values = pattern.shade(|q| model.shading(q));
             let fit = prepared.solve(&values, Mapping::Auto).unwrap();
-            let e = relative_rms(&held_out_views(40), |q| model.shading(q.l, q.v), |q| fit.eval(settings, q));
+            let e = sphere_rms(&held_out_views(40), |q| model.shading(&q), |q| fit.eval(settings, q));
             (model.name(), e)
         })
         .collect()

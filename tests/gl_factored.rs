@@ -6,7 +6,8 @@ mod gl_common;
 use brdfpaint::brdf::SphereView;
 use brdfpaint::factor::{Domain, Input, LogMap, Param};
 use brdfpaint::gl::{ApiPreference, DevicePreference, HeadlessContext};
-use brdfpaint::render::{CoefTexture, FactorTexture, Ggx, GpuScene, Renderer, Shading, Term};
+use brdfpaint::material::{Coefficients, Factor, Material, Term};
+use brdfpaint::render::{Ggx, GpuScene, Renderer};
 use brdfpaint::scene::{Light, Scene};
 use gl_common::*;
 use glam::{DVec3, Vec3};
@@ -21,11 +22,11 @@ fn identity() -> LogMap {
 /// value with `cpu_shading` at the G-buffer's (l, v, uv), times the light's colour ×
 /// intensity and a falloff computed here from the G-buffer's world position. Returns the
 /// worst error relative to max(|expected|, 1) and the number of pixels compared.
-fn compare_at_gbuffer(scene: &Scene, shading: &Shading, w: usize, h: usize) -> (f64, usize) {
+fn compare_at_gbuffer(scene: &Scene, shading: &Material, w: usize, h: usize) -> (f64, usize) {
     compare_with(&HeadlessContext::new().unwrap(), scene, shading, w, h)
 }
 
-fn compare_with(ctx: &HeadlessContext, scene: &Scene, shading: &Shading, w: usize, h: usize) -> (f64, usize) {
+fn compare_with(ctx: &HeadlessContext, scene: &Scene, shading: &Material, w: usize, h: usize) -> (f64, usize) {
     let mut r = Renderer::new(ctx.gl()).unwrap();
     compare_gl(&mut r, scene, shading, w, h, TABLE_TOL, "CPU", |q| cpu_shading(shading, q))
 }
@@ -55,8 +56,8 @@ const TABLE_TOL: f64 = 1e-4;
 
 /// Render one identity-mapped product of `factors` in every test scene and compare it with
 /// the CPU tables at the G-buffer's queries.
-fn assert_tables_match(label: &str, factors: Vec<FactorTexture>) {
-    let shading = Shading::uniform(Term { factors, map: identity(), coefficients: None });
+fn assert_tables_match(label: &str, factors: Vec<Factor>) {
+    let shading = uniform(Term { factors, map: identity(), coefficients: None });
     for (name, scene, w, h) in scenes() {
         let (worst, n) = compare_at_gbuffer(&scene, &shading, w, h);
         eprintln!("{label} {name}: {n} pixels, worst relative error {worst:.2e}");
@@ -85,7 +86,7 @@ fn two_d_factors_match_the_cpu_tables() {
 
 #[test]
 fn sphere_domain_two_d_factors_and_hemispherical_light_match() {
-    let shading = Shading::uniform(Term {
+    let shading = uniform(Term {
         factors: vec![
             random_factor(spec(Input::Light, Param::Hemispherical, Domain::Sphere, 20), 8),
             random_factor(spec(Input::Half, Param::Parabolic, Domain::Sphere, 12), 9),
@@ -105,7 +106,7 @@ fn sphere_domain_two_d_factors_and_hemispherical_light_match() {
 /// measured worst 1.8e-4, asserted 1e-3.
 #[test]
 fn factored_sphere_matches_the_analytic_sphere_at_pixel_centres() {
-    let shading = Shading::uniform(Term {
+    let shading = uniform(Term {
         factors: vec![
             smooth_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 64)),
             smooth_factor(spec(Input::Half, Param::Parabolic, Domain::Hemisphere, 24)),
@@ -151,7 +152,7 @@ fn factored_sphere_matches_the_analytic_sphere_at_pixel_centres() {
 /// Constant tables make the mapping inverses exact: product 0.8 per channel.
 #[test]
 fn mapping_inverses_offset_inverted_identity() {
-    let constant = |value: f32| FactorTexture {
+    let constant = |value: f32| Factor {
         spec: spec(Input::Light, Param::Radius, Domain::Sphere, 4),
         texels: vec![[value; 3]; 4],
     };
@@ -166,7 +167,7 @@ fn mapping_inverses_offset_inverted_identity() {
     let gpu = GpuScene::upload(ctx.gl(), &scene).unwrap();
     for (map, want) in cases {
         // Two factors whose product is 0.8: 2.0 x 0.4.
-        let shading = Shading::uniform(Term { factors: vec![constant(2.0), constant(0.4)], map, coefficients: None });
+        let shading = uniform(Term { factors: vec![constant(2.0), constant(0.4)], map, coefficients: None });
         let image = r.factored(&gpu, &r.upload(&shading).unwrap(), 32, 32).unwrap();
         let centre = image.at(16, 16);
         for c in 0..3 {
@@ -181,21 +182,20 @@ fn mapping_inverses_offset_inverted_identity() {
 /// Material map (thesis 4.2): two terms, coefficients split at u = 0.5.
 #[test]
 fn material_map_blends_two_terms_by_their_coefficients() {
-    let constant = |rgb: [f32; 3]| FactorTexture {
+    let constant = |rgb: [f32; 3]| Factor {
         spec: spec(Input::Light, Param::Radius, Domain::Sphere, 2),
         texels: vec![rgb; 2],
     };
     let n = 64;
-    let left: Vec<f32> = (0..n * 4).map(|k| if k % n < n / 2 { 1.0 } else { 0.0 }).collect();
+    let left: Vec<f32> = (0..n * n).map(|k| if k % n < n / 2 { 1.0 } else { 0.0 }).collect();
     let right: Vec<f32> = left.iter().map(|c| 1.0 - c).collect();
     let red = [0.9, 0.1, 0.1];
     let blue = [0.1, 0.2, 0.8];
-    let shading = Shading {
-        terms: vec![
+    let shading = map_of(vec![
             Term {
                 factors: vec![constant(red)],
                 map: identity(),
-                coefficients: Some(CoefTexture::scalar(n, 4, &left)),
+                coefficients: Some(Coefficients::grey(n, &left)),
             },
             Term {
                 factors: vec![
@@ -203,10 +203,9 @@ fn material_map_blends_two_terms_by_their_coefficients() {
                     random_factor(spec(Input::View, Param::Radius, Domain::Hemisphere, 9), 11),
                 ],
                 map: LogMap::Offset { a: [0.01, 0.02, 0.03] },
-                coefficients: Some(CoefTexture::scalar(n, 4, &right)),
+                coefficients: Some(Coefficients::grey(n, &right)),
             },
-        ],
-    };
+    ]);
     let scene = ortho_sphere(DVec3::Z, sun(DVec3::new(0.3, 0.2, 1.0), [1.0; 3]));
     let (worst, count) = compare_at_gbuffer(&scene, &shading, RES, RES);
     assert!(count > 5000 && worst < TABLE_TOL, "{worst}");
@@ -240,7 +239,7 @@ fn material_map_blends_two_terms_by_their_coefficients() {
 /// Each thread makes its own context; the images are identical and correct.
 #[test]
 fn contexts_on_parallel_threads_render_the_same_image() {
-    let shading = Shading::uniform(Term {
+    let shading = uniform(Term {
         factors: vec![
             random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 33), 21),
             random_factor(spec(Input::Half, Param::Parabolic, Domain::Hemisphere, 16), 22),
@@ -290,23 +289,21 @@ fn gles_context_renders_like_desktop_gl() {
         }
     };
     assert!(gles.is_gles(), "{gles:?}");
-    let shading = Shading {
-        terms: vec![
+    let shading = map_of(vec![
             Term {
                 factors: vec![
                     random_factor(spec(Input::Light, Param::Parabolic, Domain::Sphere, 16), 31),
                     random_factor(spec(Input::Half, Param::Radius, Domain::Sphere, 40), 32),
                 ],
                 map: LogMap::Inverted { a: [3.0, 3.5, 4.0] },
-                coefficients: Some(CoefTexture::scalar(2, 2, &[0.2, 1.0, 0.5, 0.9])),
+                coefficients: Some(Coefficients::grey(2, &[0.2, 1.0, 0.5, 0.9])),
             },
             Term {
                 factors: vec![random_factor(spec(Input::View, Param::Hemispherical, Domain::Hemisphere, 8), 33)],
                 map: identity(),
                 coefficients: None,
             },
-        ],
-    };
+    ]);
     let scene = perspective_sphere(DVec3::new(-0.5, 0.8, 3.0), 0.8, sun(DVec3::new(0.5, 0.5, 0.4), [1.0; 3]));
     let (worst, n) = compare_with(&gles, &scene, &shading, RES, RES);
     eprintln!("GLES ({}): {n} pixels, worst relative error {worst:.2e}", gles.version());
@@ -328,7 +325,7 @@ fn frame_timing_reports_both_shaders() {
     let mut r = Renderer::new(ctx.gl()).unwrap();
     let scene = ortho_sphere(DVec3::Z, sun(DVec3::Z, [1.0; 3]));
     let gpu = GpuScene::upload(ctx.gl(), &scene).unwrap();
-    let shading = Shading::uniform(Term {
+    let shading = uniform(Term {
         factors: vec![
             random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 64), 1),
             random_factor(spec(Input::Half, Param::Radius, Domain::Sphere, 64), 2),
@@ -338,10 +335,10 @@ fn frame_timing_reports_both_shaders() {
         coefficients: None,
     });
     let sh = r.upload(&shading).unwrap();
-    let t = r.bench(&gpu, &sh, &Ggx::default(), 64, 64, 5).unwrap();
+    let t = brdfpaint::study::bench::frame_times(&mut r, &gpu, &sh, &Ggx::default(), 64, 64, 5).unwrap();
     assert!(t.factored_ms > 0.0 && t.analytic_ms > 0.0 && t.ratio.is_finite(), "{t:?}");
     assert_eq!((t.frames, t.width, t.triangles), (5, 64, gpu.triangles()));
-    assert!(r.bench(&gpu, &sh, &Ggx::default(), 64, 64, 0).is_err());
+    assert!(brdfpaint::study::bench::frame_times(&mut r, &gpu, &sh, &Ggx::default(), 64, 64, 0).is_err());
 }
 
 /// `cargo test --release --test gl_factored -- --ignored --nocapture` prints the frame
@@ -358,7 +355,7 @@ fn frame_times_at_1024() {
         scene.meshes = vec![brdfpaint::render::mesh::uv_sphere(Vec3::ZERO, 1.0, seg, seg / 2)];
     }
     let gpu = GpuScene::upload(ctx.gl(), &scene).unwrap();
-    let one_d = Shading::uniform(Term {
+    let one_d = uniform(Term {
         factors: vec![
             random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 64), 1),
             random_factor(spec(Input::Half, Param::Radius, Domain::Sphere, 64), 2),
@@ -367,7 +364,7 @@ fn frame_times_at_1024() {
         map: identity(),
         coefficients: None,
     });
-    let two_d = Shading::uniform(Term {
+    let two_d = uniform(Term {
         factors: vec![
             random_factor(spec(Input::Light, Param::Parabolic, Domain::Sphere, 24), 1),
             random_factor(spec(Input::Half, Param::Parabolic, Domain::Hemisphere, 24), 2),
@@ -379,7 +376,7 @@ fn frame_times_at_1024() {
     });
     for (name, shading) in [("3x1D", one_d), ("3x2D+uv", two_d)] {
         let sh = r.upload(&shading).unwrap();
-        let t = r.bench(&gpu, &sh, &Ggx::default(), 1024, 1024, 30).unwrap();
+        let t = brdfpaint::study::bench::frame_times(&mut r, &gpu, &sh, &Ggx::default(), 1024, 1024, 30).unwrap();
         eprintln!("{name}: {t:?}");
     }
 }

@@ -3,13 +3,13 @@
 
 mod gl_common;
 
+use brdfpaint::brdf::Reflectance;
 use brdfpaint::brdf::{Analytic, SphereView};
 use brdfpaint::factor::{CustomInput, Domain, Input, LogMap, Param};
 use brdfpaint::gl::{header, HeadlessContext, Program};
 use brdfpaint::render::mesh::{cube, uv_sphere};
-use brdfpaint::render::{
-    FactorTexture, Ggx, GpuScene, Mesh, OutlineStyle, ReferenceStyle, Renderer, Shading, Term, MAX_TERMS,
-};
+use brdfpaint::material::{Factor, Term};
+use brdfpaint::render::{Ggx, GpuScene, Mesh, OutlineStyle, ReferenceStyle, Renderer, MAX_TERMS};
 use brdfpaint::scene::{Camera, CpuMesh, Light, Projection, Scene};
 use gl_common::*;
 use glam::{DVec3, Mat4, Vec3};
@@ -176,7 +176,7 @@ fn all_passes_cover_the_same_pixels() {
     };
     let gpu = GpuScene::upload(ctx.gl(), &scene).unwrap();
     let (w, h) = (120, 80);
-    let shading = Shading::uniform(Term {
+    let shading = uniform(Term {
         factors: vec![random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 8), 1)],
         map: LogMap::Identity { floor: [1e-3; 3] },
         coefficients: None,
@@ -350,7 +350,7 @@ fn ggx_shader_matches_the_cpu_model() {
     for j in 0..RES {
         for i in 0..RES {
             let Some(q) = g.at(i, j).query() else { continue };
-            let s = cpu.shading(q.l, q.v);
+            let s = cpu.shading(&q);
             let want = [s[0], 2.0 * s[1], 3.0 * s[2]];
             let scale = want.iter().fold(0.1f64, |m, x| m.max(x.abs()));
             let e = rel_err(image.at(i, j), want, scale);
@@ -369,7 +369,7 @@ fn bad_input_is_an_error_not_a_panic() {
     let gl = ctx.gl();
     let scene = ortho_sphere(DVec3::Z, sun(DVec3::Z, [1.0; 3]));
     let gpu = GpuScene::upload(gl, &scene).unwrap();
-    let good = Shading::uniform(Term {
+    let good = uniform(Term {
         factors: vec![random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 8), 1)],
         map: LogMap::Identity { floor: [1e-3; 3] },
         coefficients: None,
@@ -395,18 +395,18 @@ fn bad_input_is_an_error_not_a_panic() {
     };
     assert!(Mesh::upload(gl, &m).is_err());
 
-    // Shading functions the renderer cannot draw.
+    // Materials the renderer cannot draw.
     let custom = CustomInput { name: "mine".into(), project: std::sync::Arc::new(|_| [0.0, 0.0]) };
     let mut bad = good.clone();
     bad.terms[0].factors[0].spec.input = Input::Custom(custom);
     assert!(r.upload(&bad).unwrap_err().to_string().contains("custom"));
-    let too_many = Shading { terms: vec![good.terms[0].clone(); MAX_TERMS + 1] };
+    let too_many = map_of(vec![good.terms[0].clone(); MAX_TERMS + 1]);
     assert!(r.upload(&too_many).is_err());
     let mut nan = good.clone();
     nan.terms[0].factors[0].texels[3][1] = f32::NAN;
     assert!(r.upload(&nan).is_err());
-    let short = Shading::uniform(Term {
-        factors: vec![FactorTexture {
+    let short = uniform(Term {
+        factors: vec![Factor {
             spec: spec(Input::Half, Param::Parabolic, Domain::Hemisphere, 8),
             texels: vec![[1.0; 3]; 8],
         }],

@@ -1,6 +1,7 @@
 //! Materials: CPU evaluation against the fit, save/load round trips, bad files, and the
 //! MERL path from measured data to a material.
 
+use brdfpaint::brdf::Reflectance;
 use std::path::Path;
 
 use brdfpaint::brdf::{Analytic, Merl, SphereView};
@@ -12,7 +13,7 @@ use rand_chacha::ChaCha8Rng;
 
 fn fitted(settings: &Settings, model: &Analytic) -> (Material, brdfpaint::factor::Fit) {
     let pattern = SphereView::new(DVec3::new(-0.5, 0.5, 1.0), 60).pattern();
-    let values = pattern.shade(|l, v| model.shading(l, v));
+    let values = pattern.shade(|q| model.shading(q));
     let fit = prepare(&pattern, settings).unwrap().solve(&values, Mapping::Auto).unwrap();
     let provenance = Provenance { tool: "test".into(), errors: Some(fit.errors), samples: pattern.len(), ..Default::default() };
     (Material::from_fit(settings, &fit, provenance).unwrap(), fit)
@@ -34,7 +35,7 @@ fn material_evaluation_matches_the_fit_to_f32_precision() {
     for settings in [Settings::default(), Settings::uniform(2, 16), Settings::four_factor(1, 32, 8)] {
         let (material, fit) = fitted(&settings, &Analytic::suite()[1]);
         for q in random_queries(500) {
-            let (a, b) = (material.eval(&q), fit.eval(&settings, &q));
+            let (a, b) = (material.shading(&q), fit.eval(&settings, &q));
             // f32 tables: relative 1e-6 of the product, which for the offset and inverted
             // mappings is of the size of their constant, not of the result.
             let scale = fit.map.constant();
@@ -145,7 +146,7 @@ fn measured_data_becomes_a_material_that_matches_it_on_new_directions() {
             DVec3::new((1.0 - z * z).sqrt() * p.cos(), (1.0 - z * z).sqrt() * p.sin(), z)
         };
         let q = Query { l: dir(), v: dir(), uv: DVec2::ZERO };
-        let (got, want) = (material.eval(&q), model.shading(q.l, q.v));
+        let (got, want) = (material.shading(&q), model.shading(&q));
         for c in 0..3 {
             num += (got[c] - want[c]).powi(2);
             den += want[c].powi(2);

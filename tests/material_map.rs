@@ -2,7 +2,9 @@
 //! and a matte BRDF in bands of the surface's u coordinate, like wood grain, and the
 //! four-factor product (4.2.1) of a BRDF and a banded albedo.
 
-use brdfpaint::brdf::{relative_rms as view_rms, Analytic, SphereView, Striped};
+use brdfpaint::brdf::Reflectance;
+use brdfpaint::study::sphere_rms as view_rms;
+use brdfpaint::brdf::{Analytic, SphereView, Striped};
 use brdfpaint::factor::{prepare, Mapping, Pattern, Query, Settings};
 use brdfpaint::material::map::{self, Grid, MapOptions, MapReport, Method};
 use brdfpaint::material::{Kind, Material};
@@ -49,7 +51,7 @@ fn fitted(terms: usize, coef_res: usize) -> (Material, Vec<f64>) {
 fn held_out(material: &Material, margin: f64) -> f64 {
     relative_rms(Striped::held_out_views(90).iter().flat_map(|v| v.pixels()).filter_map(|p| {
         let u = p.query.uv.x * 8.0;
-        ((u - u.round()).abs() / 8.0 >= margin).then(|| (material.eval(&p.query), truth(&p.query)))
+        ((u - u.round()).abs() / 8.0 >= margin).then(|| (material.shading(&p.query), truth(&p.query)))
     }))
 }
 
@@ -106,7 +108,7 @@ fn clustering_recovers_the_two_materials_and_generalizes() {
     // Each term is its material's BRDF: on the held-out views, term for term.
     for (region, brdf) in [(0, &object.a), (1, &object.b)] {
         let term = &material.terms[owner[region].unwrap()];
-        let e = view_rms(&Striped::held_out_views(60), |q| brdf.shading(q.l, q.v), |q| term.eval(q));
+        let e = view_rms(&Striped::held_out_views(60), |q| brdf.shading(&q), |q| term.eval(q));
         // Measured 0.013 (glossy) and 0.047 (matte: a few glossy samples on band edges).
         assert!(e < 0.07, "term of region {region}: held-out {e}");
     }
@@ -136,7 +138,7 @@ fn gap_filling_leaves_no_holes_across_the_uv_seam() {
         let view = SphereView::new(light, res).from_camera(camera);
         let pixels: Vec<_> = view.pixels().into_iter().filter(|p| keep(&p.query)).collect();
         assert!(pixels.len() > 50, "the view must see the region");
-        relative_rms(pixels.iter().map(|p| (material.eval(&p.query), truth(&p.query))))
+        relative_rms(pixels.iter().map(|p| (material.shading(&p.query), truth(&p.query))))
     };
     let at_samples = rms(90, &|_| true);
     let between = rms(200, &|_| true);
@@ -183,7 +185,7 @@ fn four_factor_recovers_an_albedo_texture_up_to_scale() {
     // ratio, 2.5; the scale of s is shared with p, q and r), and p q r the BRDF.
     let model = Analytic::BlinnPhong { diffuse: [0.4, 0.3, 0.2], specular: [0.3, 0.3, 0.3], exponent: 20.0 };
     let albedo = |u: f64| if (u * 6.0).floor() as i64 % 2 == 0 { 1.0 } else { 0.4 };
-    let truth = |q: &Query| model.shading(q.l, q.v).map(|x| x * albedo(q.uv.x));
+    let truth = |q: &Query| model.shading(&q).map(|x| x * albedo(q.uv.x));
     let queries: Vec<Query> = Striped::painted_views(90).iter().flat_map(|v| v.pixels()).map(|p| p.query).collect();
     let values: Vec<[f64; 3]> = queries.iter().map(truth).collect();
     let pattern = Pattern::new(queries, true);
@@ -213,7 +215,7 @@ fn four_factor_recovers_an_albedo_texture_up_to_scale() {
     }
     // And the whole material holds on new lights and views (measured 0.15 relative RMS,
     // most of it at the band edges, which 32 texels blur; one product p q r: 0.82).
-    let held = view_rms(&Striped::held_out_views(60), truth, |q| material.eval(q));
+    let held = view_rms(&Striped::held_out_views(60), truth, |q| material.shading(q));
     assert!(held < 0.2, "held-out {held}");
 }
 
@@ -242,11 +244,11 @@ fn hybrid_terms_carry_their_own_uv_factor() {
     // Measured: training relative RMS 0.063, held-out 0.18 (a plain material map of the
     // same samples: 0.063 and 0.16; one four-factor product: far worse, it has one BRDF).
     assert!(report.fitted.rms_relative < 0.1, "training {}", report.fitted.rms_relative);
-    let held = view_rms(&Striped::held_out_views(60), truth, |q| material.eval(q));
+    let held = view_rms(&Striped::held_out_views(60), truth, |q| material.shading(q));
     assert!(held < 0.25, "held-out {held}");
     let four = prepare(&pattern, &Settings::four_factor(1, 128, 32)).unwrap().solve(&values, Mapping::Auto).unwrap();
     let four = Material::from_fit(&Settings::four_factor(1, 128, 32), &four, Default::default()).unwrap();
-    let single = view_rms(&Striped::held_out_views(60), truth, |q| four.eval(q));
+    let single = view_rms(&Striped::held_out_views(60), truth, |q| four.shading(q));
     assert!(held < 0.5 * single, "hybrid {held} vs one four-factor product {single}");
 }
 

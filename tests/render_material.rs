@@ -1,14 +1,15 @@
-//! `Shading::from_material`: the GL image of a saved-then-loaded material equals
+//! Materials on the GPU: the GL image of a saved-then-loaded material equals
 //! `Material::eval` (the CPU reference) at the G-buffer's queries, times the light's colour ×
 //! intensity and a $1/d^2$ falloff computed here, under several lights and views.
 
 mod gl_common;
 
+use brdfpaint::brdf::Reflectance;
 use brdfpaint::brdf::{Analytic, SphereView};
 use brdfpaint::factor::{prepare, Domain, Input, LogMap, Mapping, Param, Settings};
 use brdfpaint::gl::HeadlessContext;
 use brdfpaint::material::{Coefficients, Factor, Kind, Material, Provenance, Term};
-use brdfpaint::render::{Renderer, Shading};
+use brdfpaint::render::Renderer;
 use brdfpaint::scene::{Light, Scene};
 use gl_common::*;
 use glam::{DVec3, Vec3};
@@ -24,7 +25,7 @@ fn fitted(dim: usize, res: usize, model: &Analytic) -> Material {
     let pattern = SphereView::new(DVec3::new(-0.5, 0.5, 1.0), 48).pattern();
     let settings = Settings::uniform(dim, res);
     let prepared = prepare(&pattern, &settings).unwrap();
-    let values = pattern.shade(|l, v| model.shading(l, v));
+    let values = pattern.shade(|q| model.shading(q));
     let fit = prepared.solve(&values, Mapping::Auto).unwrap();
     Material::from_fit(&settings, &fit, Provenance::default()).unwrap()
 }
@@ -66,14 +67,14 @@ fn two_terms() -> Material {
 }
 
 /// Saves, loads (checking the round trip is exact), and converts.
-fn through_disk(material: &Material) -> (Material, Shading) {
+fn through_disk(material: &Material) -> (Material, Material) {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("mat");
     material.save(&path).unwrap();
     let loaded = Material::load(&path).unwrap();
     assert_eq!(&loaded, material, "save/load round trip");
-    let shading = Shading::from_material(&loaded).unwrap();
-    (loaded, shading)
+    brdfpaint::render::check(&loaded).unwrap();
+    (loaded.clone(), loaded)
 }
 
 /// Scenes: both camera kinds, both light kinds (coloured, intensity ≠ 1), lights below
@@ -93,8 +94,8 @@ fn scenes() -> Vec<(&'static str, Scene, usize, usize)> {
 }
 
 /// Worst error over covered pixels of the GL image against `material.eval`; pixel count.
-fn compare(r: &mut Renderer, material: &Material, shading: &Shading, scene: &Scene, w: usize, h: usize) -> (f64, usize) {
-    compare_gl(r, scene, shading, w, h, TOL, "Material::eval", |q| material.eval(q))
+fn compare(r: &mut Renderer, material: &Material, shading: &Material, scene: &Scene, w: usize, h: usize) -> (f64, usize) {
+    compare_gl(r, scene, shading, w, h, TOL, "Material::eval", |q| material.shading(q))
 }
 
 fn check(name: &str, material: &Material) {

@@ -4,11 +4,14 @@
 
 mod gl_common;
 
-use brdfpaint::brdf::{held_out_views, relative_rms, Analytic, SphereView};
+use brdfpaint::brdf::Reflectance;
+use brdfpaint::brdf::{held_out_views, Analytic, SphereView};
+use brdfpaint::study::sphere_rms;
 use brdfpaint::factor::{Mapping, Settings};
 use brdfpaint::images::Painting;
 use brdfpaint::material::{Material, Provenance};
-use brdfpaint::sample::{fit, Erosion, NormalMap, Photo, PhotoCamera, PhotoLight, Samples, SceneSampler};
+use brdfpaint::pipeline::solve as fit;
+use brdfpaint::sample::{Erosion, NormalMap, Photo, PhotoCamera, PhotoLight, Samples, SceneSampler};
 use glam::{DMat3, DVec3};
 use gl_common::*;
 
@@ -170,7 +173,7 @@ fn photographs_of_an_analytic_sphere_recover_the_brdf() {
             })
             .map(|(light, n)| {
                 let q = SphereView::query(n, light.direction.normalize(), DVec3::Z);
-                let s = model.shading(q.l, q.v);
+                let s = model.shading(&q);
                 (0..3).map(|c| s[c] * light.rgb[c]).fold(0.0, f64::max)
             })
             .fold(0.0, f64::max);
@@ -186,7 +189,7 @@ fn photographs_of_an_analytic_sphere_recover_the_brdf() {
                 for i in 0..res {
                     if let Some(n) = sphere_normal(DVec3::Z, res, i, j) {
                         let q = SphereView::query(n, l, DVec3::Z);
-                        let s = model.shading(q.l, q.v);
+                        let s = model.shading(&q);
                         image.pixels[j * res + i] = [0, 1, 2].map(|c| (s[c] * light.rgb[c]) as f32);
                     }
                 }
@@ -200,7 +203,7 @@ fn photographs_of_an_analytic_sphere_recover_the_brdf() {
         let samples = Samples::gather(&views).unwrap();
         let fitted = fit(&samples, &settings, Mapping::Auto, None).unwrap();
         let material = Material::from_fit(&settings, &fitted.fit, Provenance::default()).unwrap();
-        let e = relative_rms(&held_out_views(48), |q| model.shading(q.l, q.v), |q| material.eval(q));
+        let e = sphere_rms(&held_out_views(48), |q| model.shading(&q), |q| material.shading(q));
         eprintln!("{}: {} samples, train {:.4}, held-out {e:.4}", model.name(), samples.len(), fitted.fit.errors.rms_relative);
         assert!(e < bound, "{}: held-out relative RMS {e} (bound {bound})", model.name());
     }

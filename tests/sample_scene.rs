@@ -4,10 +4,11 @@
 
 mod gl_common;
 
+use brdfpaint::brdf::Reflectance;
 use brdfpaint::brdf::{Analytic, SphereView};
 use brdfpaint::factor::{prepare, Mapping, Settings};
 use brdfpaint::images::Painting;
-use brdfpaint::render::{mesh::cube, GpuScene, Shading, Term};
+use brdfpaint::render::{mesh::cube, GpuScene};
 use brdfpaint::sample::{
     check_aspect, check_same_model, scene::geometry_from_gbuffer, Erosion, Neighbours, PaintedView, Samples,
     SceneSampler,
@@ -132,8 +133,8 @@ fn point_light_falloff_and_colour_are_divided_out() {
     let pattern = SphereView::new(DVec3::new(-0.5, 0.5, 1.0), 48).pattern();
     let settings = Settings::default();
     let model = &Analytic::suite()[2];
-    let fit = prepare(&pattern, &settings).unwrap().solve(&pattern.shade(|l, v| model.shading(l, v)), Mapping::Auto).unwrap();
-    let shading = Shading::uniform(Term::from_fit(&settings, &fit));
+    let fit = prepare(&pattern, &settings).unwrap().solve(&pattern.shade(|q| model.shading(q)), Mapping::Auto).unwrap();
+    let shading = brdfpaint::material::Material::from_fit(&settings, &fit, Default::default()).unwrap();
     let gpu = GpuScene::upload(sampler.context().gl(), &scene).unwrap();
     let gpu_shading = sampler.renderer().upload(&shading).unwrap();
     let image = sampler.renderer().factored(&gpu, &gpu_shading, RES, RES).unwrap();

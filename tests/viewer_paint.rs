@@ -1,7 +1,9 @@
 //! The headless live-painting core: scripted strokes through the live refit path end in the
 //! same material as fitting the final paintings in one go; undo/redo is exact; watch mode
 //! follows a rewritten file and survives a truncated one.
+#![cfg(feature = "viewer")]
 
+use brdfpaint::brdf::Reflectance;
 use brdfpaint::factor::{Fit, Mapping, Settings};
 use brdfpaint::gl::HeadlessContext;
 use brdfpaint::material::Material;
@@ -94,7 +96,7 @@ fn scripted_strokes_end_in_the_fit_of_the_final_paintings() {
         .collect();
     let samples = Samples::gather(&painted).unwrap();
     assert_eq!(samples.len(), live.samples, "the same samples");
-    let once = brdfpaint::sample::fit(&samples, &Settings::default(), Mapping::Auto, None).unwrap().fit;
+    let once = brdfpaint::pipeline::solve(&samples, &Settings::default(), Mapping::Auto, None).unwrap().fit;
     assert_eq!(once.map, live_fit.map, "the same mapping wins");
     assert_tables_close(&live_fit.tables, &once.tables, "live vs the fit command's path");
     // And the viewer's own one-go fit agrees.
@@ -201,7 +203,7 @@ fn watch_mode_refits_a_rewritten_file_and_survives_a_truncated_one() {
     let second = session.material().unwrap().clone();
     assert_ne!(first.terms[0].factors, second.terms[0].factors);
     let q = brdfpaint::factor::Query { l: glam::DVec3::Z, v: glam::DVec3::Z, uv: glam::DVec2::ZERO };
-    let (c1, c2) = (first.eval(&q), second.eval(&q));
+    let (c1, c2) = (first.shading(&q), second.shading(&q));
     assert!(c1[0] > c1[2] && c2[2] > c2[0], "the refit follows the file: {c1:?} then {c2:?}");
 
     // A half-written file: the last good material stays and the status says why.

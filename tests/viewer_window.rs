@@ -2,7 +2,9 @@
 //! shows the object shaded as `Material::eval` predicts under the camera and light the viewer
 //! reports, draws its egui panel, and the X server's own screenshot (xwd) shows the same
 //! window. Skipped, with a message, where `xvfb-run` is missing (CI installs it: .ci/run).
+#![cfg(feature = "viewer")]
 
+use brdfpaint::brdf::Reflectance;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -188,7 +190,7 @@ fn the_window_shows_the_material_as_evaluated_on_the_cpu() {
         for i in (4..w - 4).step_by(7) {
             let inner = (-2..=2).all(|dj: i32| (-2..=2).all(|di: i32| g.at((i as i32 + di) as usize, (j as i32 + dj) as usize).hit));
             let Some(q) = inner.then(|| g.at(i, j).query()).flatten() else { continue };
-            let s = material.eval(&q);
+            let s = material.shading(&q);
             let want = [0, 1, 2].map(|c| (linear_to_srgb((s[c] as f32) * rgb[c] * g.at(i, j).falloff) * 255.0 + 0.5) as i32);
             let got = px(r.x + i as i32, r.y + j as i32);
             let err = (0..3).map(|c| (want[c] - got[c] as i32).abs()).max().unwrap();

@@ -9,6 +9,9 @@
 use glam::DVec3;
 use std::f64::consts::PI;
 
+use super::Reflectance;
+use crate::factor::Query;
+
 /// Analytic reflectance models in the local shading frame (z = normal).
 ///
 /// All colours are linear RGB.
@@ -94,7 +97,7 @@ impl Analytic {
             }
             // Divide the shading by $\cos\theta_l$, floored so a light on the horizon gives a
             // large but finite value instead of an infinity.
-            return scale(self.shading(l, v), 1.0 / l.z.max(1e-3));
+            return scale(self.shading(&Query::at(l, v)), 1.0 / l.z.max(1e-3));
         }
         let (cos_l, cos_v) = (l.z, v.z);
         if cos_l <= 0.0 || cos_v <= 0.0 {
@@ -158,20 +161,6 @@ impl Analytic {
         }
     }
 
-    /// The shading function $S = f_r \cos\theta_l$ a painting shows.
-    ///
-    /// For [`Analytic::Gooch`] it is
-    /// $S = \mathrm{mix}(\text{cool}, \text{warm}, (1 + l_z)/2)$ on the whole sphere.
-    pub fn shading(&self, l: DVec3, v: DVec3) -> [f64; 3] {
-        if let Analytic::Gooch { warm, cool } = *self {
-            let t = ((1.0 + l.z) * 0.5).clamp(0.0, 1.0);
-            return add(scale(cool, 1.0 - t), scale(warm, t));
-        }
-        let f = self.brdf(l, v);
-        let c = l.z.max(0.0);
-        [f[0] * c, f[1] * c, f[2] * c]
-    }
-
     /// A short descriptive name, e.g. `blinn-phong-32` or `ggx-0.4`.
     pub fn name(&self) -> String {
         match self {
@@ -213,6 +202,23 @@ impl Analytic {
     }
 }
 
+impl Reflectance for Analytic {
+    /// The shading function $S = f_r \cos\theta_l$ a painting shows.
+    ///
+    /// For [`Analytic::Gooch`] it is
+    /// $S = \mathrm{mix}(\text{cool}, \text{warm}, (1 + l_z)/2)$ on the whole sphere.
+    fn shading(&self, q: &Query) -> [f64; 3] {
+        let (l, v) = (q.l, q.v);
+        if let Analytic::Gooch { warm, cool } = *self {
+            let t = ((1.0 + l.z) * 0.5).clamp(0.0, 1.0);
+            return add(scale(cool, 1.0 - t), scale(warm, t));
+        }
+        let f = self.brdf(l, v);
+        let c = l.z.max(0.0);
+        [f[0] * c, f[1] * c, f[2] * c]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -244,7 +250,7 @@ mod tests {
             let (l, v) = (upper(&mut rng), upper(&mut rng));
             let f = m.brdf(l, v);
             assert!(close(f, [0.7 / PI, 0.45 / PI, 0.2 / PI], 1e-14), "l={l} v={v} f={f:?}");
-            let s = m.shading(l, v);
+            let s = m.shading(&Query::at(l, v));
             assert!(close(s, scale(f, l.z), 1e-14), "l={l} v={v} s={s:?}");
         }
     }
@@ -318,14 +324,14 @@ mod tests {
         let cool = [0.1, 0.2, 0.6];
         let g = Analytic::Gooch { warm, cool };
         let v = DVec3::Z;
-        assert!(close(g.shading(-DVec3::Z, v), cool, 1e-14), "{:?}", g.shading(-DVec3::Z, v));
-        assert!(close(g.shading(DVec3::Z, v), warm, 1e-14));
-        let mid = g.shading(DVec3::X, v);
+        assert!(close(g.shading(&Query::at(-DVec3::Z, v)), cool, 1e-14), "{:?}", g.shading(&Query::at(-DVec3::Z, v)));
+        assert!(close(g.shading(&Query::at(DVec3::Z, v)), warm, 1e-14));
+        let mid = g.shading(&Query::at(DVec3::X, v));
         assert!(close(mid, [0.5, 0.4, 0.4], 1e-14), "{mid:?}");
         assert_eq!(g.brdf(-DVec3::Z, v), [0.0; 3]);
         // brdf * cos reproduces the shading on the lit side.
         let l = dir(50.0, 20.0);
-        assert!(close(scale(g.brdf(l, v), l.z), g.shading(l, v), 1e-12));
+        assert!(close(scale(g.brdf(l, v), l.z), g.shading(&Query::at(l, v)), 1e-12));
         assert!(!g.is_physical());
     }
 
@@ -351,7 +357,7 @@ mod tests {
             if rng.random::<bool>() {
                 l.z = -l.z;
             }
-            let s = g.shading(l, DVec3::Z);
+            let s = g.shading(&Query::at(l, DVec3::Z));
             assert!(s.iter().all(|x| x.is_finite() && *x >= 0.0), "l={l} s={s:?}");
             let f = g.brdf(l, DVec3::Z);
             assert!(f.iter().all(|x| x.is_finite() && *x >= 0.0), "l={l} f={f:?}");
@@ -369,7 +375,7 @@ mod tests {
                 let phi = 2.0 * PI * (j as f64 + rng.random::<f64>()) / n as f64;
                 let r = (1.0 - z * z).max(0.0).sqrt();
                 let l = DVec3::new(r * phi.cos(), r * phi.sin(), z);
-                sum = add(sum, m.shading(l, v));
+                sum = add(sum, m.shading(&Query::at(l, v)));
             }
         }
         scale(sum, 2.0 * PI / (n * n) as f64)

@@ -23,7 +23,9 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
+use super::Reflectance;
 use crate::error::{Error, Result};
+use crate::factor::Query;
 
 /// A material of the ABC model (Löw et al. 2012). Colours are linear RGB.
 #[derive(Clone, Debug, PartialEq)]
@@ -141,10 +143,13 @@ impl Abc {
         [0, 1, 2].map(|c| self.kd[c] / PI + d[c] * spec)
     }
 
+}
+
+impl Reflectance for Abc {
     /// The shading function $S = f_r \cos\theta_l$ a painting shows.
-    pub fn shading(&self, l: DVec3, v: DVec3) -> [f64; 3] {
-        let f = self.brdf(l, v);
-        let c = l.z.max(0.0);
+    fn shading(&self, q: &Query) -> [f64; 3] {
+        let f = self.brdf(q.l, q.v);
+        let c = q.l.z.max(0.0);
         f.map(|x| x * c)
     }
 }
@@ -190,7 +195,7 @@ mod tests {
                 for j in 0..n {
                     let p = (j as f64 + 0.5) / n as f64 * 2.0 * PI;
                     let v = dir(t, p);
-                    let s = m.shading(v, DVec3::Z);
+                    let s = m.shading(&Query::at(v, DVec3::Z));
                     let w = t.sin() * (PI / 2.0 / n as f64) * (2.0 * PI / n as f64);
                     for c in 0..3 {
                         albedo[c] += s[c] * w;

@@ -178,6 +178,14 @@ impl Merl {
     }
 }
 
+impl super::Reflectance for Merl {
+    /// $S = f_r \cos\theta_l$ where the table has a measurement; 0 where it has none or
+    /// either direction is below the horizon (no light arrives or leaves there).
+    fn shading(&self, q: &crate::factor::Query) -> [f64; 3] {
+        self.brdf(q.l, q.v).map_or([0.0; 3], |f| f.map(|x| x * q.l.z.max(0.0)))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

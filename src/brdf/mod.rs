@@ -11,5 +11,16 @@ mod striped;
 pub use analytic::Analytic;
 pub use fits::{fresnel_dielectric, Abc};
 pub use merl::Merl;
-pub use sphere::{held_out_views, painted_views, relative_rms, SpherePixel, SphereView};
+pub use sphere::{held_out_views, painted_views, SpherePixel, SphereView};
 pub use striped::Striped;
+
+use crate::factor::Query;
+
+/// Anything that answers "what is the shading at (l, v)?": the shading function
+/// $S = f_r \cos\theta_l$ (DESIGN.md, Shading function) at a query in the local frame, linear
+/// RGB, under a unit white light. Spatially varying ones read the query's uv. Analytic
+/// models, the ABC fits, the striped test object, MERL data and fitted materials all
+/// implement it, so judging and painting code take any of them.
+pub trait Reflectance {
+    fn shading(&self, q: &Query) -> [f64; 3];
+}

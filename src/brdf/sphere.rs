@@ -119,22 +119,6 @@ pub fn painted_views(count: usize, res: usize) -> Vec<SphereView> {
     all[..count.min(all.len())].to_vec()
 }
 
-/// Relative RMS of `model` against `truth` over every pixel of the views, all channels:
-/// $\sqrt{\sum (m - t)^2 / \sum t^2}$.
-pub fn relative_rms(views: &[SphereView], truth: impl Fn(&Query) -> [f64; 3], model: impl Fn(&Query) -> [f64; 3]) -> f64 {
-    let (mut num, mut den) = (0.0, 0.0);
-    for view in views {
-        for p in view.pixels() {
-            let (t, m) = (truth(&p.query), model(&p.query));
-            for c in 0..3 {
-                num += (m[c] - t[c]).powi(2);
-                den += t[c].powi(2);
-            }
-        }
-    }
-    (num / den.max(f64::MIN_POSITIVE)).sqrt()
-}
-
 /// Standard held-out views for judging fits: lights and cameras that no test paints from.
 pub fn held_out_views(res: usize) -> Vec<SphereView> {
     let lights = [DVec3::new(0.7, 0.2, 0.7), DVec3::new(-0.2, -0.6, 0.8), DVec3::new(0.0, 0.9, 0.45)];

@@ -4,7 +4,7 @@
 
 use glam::DVec3;
 
-use super::{Analytic, SphereView};
+use super::{Analytic, Reflectance, SphereView};
 use crate::factor::{Pattern, Query};
 use crate::material::map::Grid;
 
@@ -43,10 +43,6 @@ impl Striped {
         self.band(u) % 2
     }
 
-    /// The shading function at a query, with its uv.
-    pub fn shading(&self, q: &Query) -> [f64; 3] {
-        if self.region(q.uv.x) == 0 { &self.a } else { &self.b }.shading(q.l, q.v)
-    }
 
     /// Four views that together see every side of the sphere: the first is the usual
     /// upper-left light from the front.
@@ -83,5 +79,11 @@ impl Striped {
         }
         let values = queries.iter().map(|q| self.shading(q)).collect();
         (Pattern::new(queries, true), values, grids)
+    }
+}
+impl Reflectance for Striped {
+    /// The shading function at a query: its uv picks the band's model.
+    fn shading(&self, q: &Query) -> [f64; 3] {
+        if self.region(q.uv.x) == 0 { &self.a } else { &self.b }.shading(q)
     }
 }

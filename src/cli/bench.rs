@@ -1,26 +1,29 @@
 //! `brdfpaint bench`.
 
-use crate::error::{Error, Result};
+use brdfpaint::error::{Error, Result};
 
 pub(super) fn run(json: bool, quick: bool) -> Result<()> {
-    let mut cases = crate::bench::factor_cases(quick)?;
-    cases.extend(crate::bench::material_map_cases(quick)?);
-    let fidelity = crate::bench::fidelity_cases()?;
+    let mut cases = brdfpaint::study::bench::factor_cases(quick)?;
+    cases.extend(brdfpaint::study::bench::material_map_cases(quick)?);
+    let fidelity = brdfpaint::study::bench::fidelity_cases()?;
     // The GL cases need an EGL device; without one the factorization tables still stand.
-    let gl = match crate::bench::gl_cases(quick) {
+    let gl = match brdfpaint::study::bench::gl_cases(quick) {
         Ok(gl) => Some(gl),
         Err(e) => {
             eprintln!("warning: GL frame-time cases skipped: {e}");
             None
         }
     };
-    let live = match crate::bench::live_paint_case(quick) {
+    #[cfg(feature = "viewer")]
+    let live = match brdfpaint::study::bench::live_paint_case(quick) {
         Ok(c) => Some(c),
         Err(e) => {
             eprintln!("warning: live-paint case skipped: {e}");
             None
         }
     };
+    #[cfg(not(feature = "viewer"))]
+    let live: Option<brdfpaint::study::bench::Case> = None;
     if json {
         if let Some((gl_cases, _)) = &gl {
             cases.extend(gl_cases.iter().cloned());
@@ -29,14 +32,14 @@ pub(super) fn run(json: bool, quick: bool) -> Result<()> {
         cases.extend(fidelity);
         println!("{}", serde_json::to_string_pretty(&cases).map_err(|e| Error::input(e.to_string()))?);
     } else {
-        print!("{}", crate::bench::table(&cases));
+        print!("{}", brdfpaint::study::bench::table(&cases));
         println!("solve: one RGB refit (log mapping, solve, tables). Thesis: P4 2003, SVD pre-inversion and its fast factorization.");
         println!();
-        print!("{}", crate::bench::fidelity_table(&fidelity));
+        print!("{}", brdfpaint::study::bench::fidelity_table(&fidelity));
         println!("Table 5.4's metrics on the striped sphere (4 painted views): RMS, max on the samples; held-out: relative RMS, 4 new views.");
         if let Some((gl_cases, device)) = &gl {
             println!();
-            print!("{}", crate::bench::gl_table(gl_cases));
+            print!("{}", brdfpaint::study::bench::gl_table(gl_cases));
             println!("median frame times (clear, draw, glFinish), factored and GGX interleaved, on {device}");
         }
         if let Some(c) = &live {

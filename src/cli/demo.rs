@@ -1,10 +1,10 @@
-//! `brdfpaint demo`: the main job on bundled paintings, headless (see [`crate::demo`]).
+//! `brdfpaint demo`: the main job on bundled paintings, headless (see [`brdfpaint::demo`]).
 
 use std::path::PathBuf;
 
-use crate::demo;
-use crate::error::Result;
-use crate::factor::cache::Cache;
+use brdfpaint::demo;
+use brdfpaint::error::Result;
+use brdfpaint::factor::cache::Cache;
 
 #[derive(clap::Args)]
 pub(super) struct DemoArgs {

@@ -6,12 +6,14 @@ use std::time::Instant;
 
 use clap::ValueEnum;
 
-use crate::brdf::Merl;
-use crate::error::{Error, Result};
-use crate::factor::cache::{Cache, Outcome};
-use crate::factor::{prepare, Mapping, Pattern, Settings};
-use crate::material::{Material, Provenance};
-use crate::sample::{self, check_same_model, report, Erosion, Neighbours, Samples, SceneSampler};
+use super::Failure;
+use brdfpaint::brdf::Merl;
+use brdfpaint::error::{Error, Result};
+use brdfpaint::factor::cache::{Cache, Outcome};
+use brdfpaint::factor::{prepare, Fit, Mapping, Pattern, Settings};
+use brdfpaint::material::{map, Kind, Material};
+use brdfpaint::pipeline::{self, Options};
+use brdfpaint::sample::{Erosion, Neighbours, SceneSampler};
 
 #[derive(Clone, Copy, ValueEnum)]
 pub(super) enum FactorDim {
@@ -92,25 +94,28 @@ pub(super) struct FitArgs {
     density: usize,
 }
 
-/// Settings from the common fit options.
-pub(super) fn settings(dim: FactorDim, res: Option<usize>, lambda: Option<f64>) -> Result<Settings> {
-    let dim = match dim {
-        FactorDim::One => 1,
-        FactorDim::Two => 2,
-    };
-    let default_res = if dim == 1 { crate::factor::defaults::RES_1D } else { crate::factor::defaults::RES_2D };
-    let mut s = Settings::uniform(dim, res.unwrap_or(default_res));
-    if let Some(l) = lambda {
-        for f in &mut s.factors {
-            f.smooth = l;
+impl FactorDim {
+    fn dim(self) -> usize {
+        match self {
+            FactorDim::One => 1,
+            FactorDim::Two => 2,
         }
     }
-    s.validate()?;
-    Ok(s)
 }
 
-pub(super) fn run(args: FitArgs) -> Result<()> {
-    let mut settings = settings(args.factors, args.res, args.lambda)?;
+impl KindArg {
+    fn kind(self) -> Kind {
+        match self {
+            KindArg::Uniform => Kind::Uniform,
+            KindArg::FourFactor => Kind::FourFactor,
+            KindArg::MaterialMap => Kind::MaterialMap,
+            KindArg::Hybrid => Kind::Hybrid,
+        }
+    }
+}
+
+/// Checks the flags against each other and builds the pipeline's options.
+fn options(args: &FitArgs) -> Result<Options> {
     if args.kind != KindArg::Uniform && args.merl.is_some() {
         return Err(Error::input("--kind other than uniform needs paintings of a mesh with texture coordinates, not --merl"));
     }
@@ -120,48 +125,40 @@ pub(super) fn run(args: FitArgs) -> Result<()> {
     if args.terms.is_some() && matches!(args.kind, KindArg::Uniform | KindArg::FourFactor) {
         return Err(Error::input("--terms applies to the material-map and hybrid kinds"));
     }
-    if let Some(t) = args.terms.filter(|t| !(1..=crate::render::MAX_TERMS).contains(t)) {
-        return Err(Error::input(format!("--terms {t} is outside 1..={} (the most terms the renderer draws)", crate::render::MAX_TERMS)));
+    if let Some(t) = args.terms.filter(|t| !(1..=brdfpaint::render::MAX_TERMS).contains(t)) {
+        return Err(Error::input(format!("--terms {t} is outside 1..={} (the most terms the renderer draws)", brdfpaint::render::MAX_TERMS)));
     }
     if args.map_fit.is_some() && matches!(args.kind, KindArg::Uniform | KindArg::FourFactor) {
         return Err(Error::input("--map-fit applies to the material-map and hybrid kinds"));
     }
-    if matches!(args.kind, KindArg::FourFactor | KindArg::Hybrid) {
-        let four = Settings::four_factor(1, 2, args.uv_res.unwrap_or(crate::factor::defaults::RES_UV));
-        let mut uv = four.factors[3].clone();
-        if args.kind == KindArg::Hybrid {
-            uv.smooth = crate::factor::defaults::SMOOTH_UV_HYBRID;
-        }
-        settings.factors.push(uv);
-        settings.validate()?;
-    }
+    let mut opts = Options::new(args.kind.kind(), args.factors.dim(), args.res, args.lambda, args.uv_res)?;
+    opts.mapping = args.mapping;
+    opts.map.terms = args.terms.unwrap_or(opts.map.terms);
+    opts.map.method = match args.map_fit {
+        Some(MapFitArg::Greedy) => map::Method::Greedy,
+        Some(MapFitArg::Cluster) | None => map::Method::Cluster,
+    };
     if args.erode > 64 {
         return Err(Error::input(format!("--erode {} is more than the 64 pixels allowed", args.erode)));
     }
-    match &args.merl {
-        Some(merl) => run_merl(merl, &args, &settings),
-        None => {
-            if args.scene.len() != args.image.len() {
-                clap::Error::raw(
-                    clap::error::ErrorKind::WrongNumberOfValues,
-                    format!(
-                        "{} --scene and {} --image: give one --image after each --scene\n",
-                        args.scene.len(),
-                        args.image.len()
-                    ),
-                )
-                .exit();
-            }
-            run_paintings(&args, &settings)
-        }
-    }
+    Ok(opts)
 }
 
-fn save(material: &Material, out: &Path) -> Result<()> {
-    material.save(out).map_err(|e| match e {
-        Error::Io { .. } | Error::Format { .. } => e,
-        other => Error::input(format!("{}: {other}", out.display())),
-    })
+pub(super) fn run(args: FitArgs) -> std::result::Result<(), Failure> {
+    let opts = options(&args)?;
+    match &args.merl {
+        Some(merl) => Ok(run_merl(merl, &args, &opts.settings)?),
+        None => {
+            if args.scene.len() != args.image.len() {
+                return Err(Failure::Usage(format!(
+                    "{} --scene and {} --image: give one --image after each --scene",
+                    args.scene.len(),
+                    args.image.len()
+                )));
+            }
+            Ok(run_paintings(&args, &opts)?)
+        }
+    }
 }
 
 fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()> {
@@ -172,16 +169,10 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
     let start = Instant::now();
     let fit = prepared.solve(&values, args.mapping)?;
     let solve_s = start.elapsed().as_secs_f64();
-    let provenance = Provenance {
-        tool: format!("brdfpaint {}", env!("CARGO_PKG_VERSION")),
-        sources: vec![merl_path.display().to_string()],
-        errors: Some(fit.errors),
-        samples: pattern.len(),
-        prepare_s: prepared.prepare_s,
-        solve_s,
-    };
+    let provenance =
+        pipeline::provenance(vec![merl_path.display().to_string()], Some(fit.errors), pattern.len(), prepared.prepare_s, solve_s);
     let material = Material::from_fit(settings, &fit, provenance)?;
-    save(&material, &args.out)?;
+    pipeline::save_material(&material, &args.out)?;
     println!(
         "{} samples, {} unknowns: prepare {:.1} ms ({}), solve {:.2} ms",
         pattern.len(),
@@ -190,77 +181,36 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
         prepared.solver_kind(),
         solve_s * 1e3
     );
-    for (map, e) in &fit.tried {
-        println!("  mapping {:<8} RMS {:.5}  relative {:.4}  max {:.4}", map.name(), e.rms, e.rms_relative, e.max);
-    }
+    print_mappings(&fit);
     println!("kept {}; wrote {}", fit.map.name(), args.out.display());
     Ok(())
 }
 
-/// Paintings of scenes: sample every view, check they agree, fit through the prepare
-/// cache, write the material and its report. Nothing is written unless everything
-/// succeeds up to the save.
-fn run_paintings(args: &FitArgs, settings: &Settings) -> Result<()> {
+fn print_mappings(fit: &Fit) {
+    for (map, e) in &fit.tried {
+        println!("  mapping {:<8} RMS {:.5}  relative {:.4}  max {:.4}", map.name(), e.rms, e.rms_relative, e.max);
+    }
+}
+
+/// Paintings of scenes through the pipeline; nothing is written unless everything succeeds
+/// up to the save.
+fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
     let erosion = Erosion { radius: args.erode, neighbours: Neighbours::Eight };
     let mut sampler = SceneSampler::new()?;
-    let mut views = Vec::new();
-    let mut first: Option<crate::scene::Scene> = None;
-    for (scene_path, image_path) in args.scene.iter().zip(&args.image) {
-        let (scene, view) = sampler.load_view(scene_path, image_path, erosion)?;
-        match &first {
-            None => first = Some(scene),
-            Some(f) => check_same_model(f, &args.scene[0].display().to_string(), &scene, &scene_path.display().to_string())?,
+    let pairs: Vec<(PathBuf, PathBuf)> = args.scene.iter().cloned().zip(args.image.iter().cloned()).collect();
+    let views = pipeline::load_views(&mut sampler, &pairs, erosion)?;
+    let fitted = pipeline::fit(&views, opts, Cache::user().as_ref())?;
+    if let Some((report, _)) = &fitted.map {
+        let what = match opts.map.method {
+            map::Method::Greedy => "terms on positive residuals",
+            map::Method::Cluster => "region(s), each sample against its region's product",
+        };
+        for (k, e) in report.errors.iter().enumerate() {
+            println!("{} {what}: RMS {:.5}  relative {:.4}  max {:.4}", k + 1, e.rms, e.rms_relative, e.max);
         }
-        views.push(view);
     }
-    let samples = Samples::gather(&views)?;
-    if args.kind != KindArg::Uniform && !samples.pattern.has_uv {
-        return Err(Error::input(format!(
-            "{}: the model has no texture coordinates, which --kind {} needs (a uv table or coefficient textures)",
-            args.scene[0].display(),
-            args.kind.to_possible_value().map_or(String::new(), |v| v.get_name().to_string())
-        )));
-    }
-    let cache = Cache::user();
-    let fitted = sample::fit(&samples, settings, args.mapping, cache.as_ref())?;
-    let fit = &fitted.fit;
-    let map = match args.kind {
-        KindArg::MaterialMap | KindArg::Hybrid => Some(fit_map(args, &samples, &views, &fitted.prepared)?),
-        KindArg::Uniform | KindArg::FourFactor => None,
-    };
-    let mut sources = Vec::new();
-    for (s, i) in args.scene.iter().zip(&args.image) {
-        sources.push(s.display().to_string());
-        sources.push(i.display().to_string());
-    }
-    let provenance = Provenance {
-        tool: format!("brdfpaint {}", env!("CARGO_PKG_VERSION")),
-        sources,
-        errors: Some(fit.errors),
-        samples: samples.len(),
-        prepare_s: fitted.prepare_s,
-        solve_s: fitted.solve_s,
-    };
-    let material = match &map {
-        Some((m, report)) => {
-            let mut m = m.clone();
-            m.provenance = Provenance { errors: Some(report.fitted), solve_s: report.seconds, ..provenance };
-            let what = match args.map_fit {
-                Some(MapFitArg::Greedy) => "terms on positive residuals",
-                _ => "region(s), each sample against its region's product",
-            };
-            for (k, e) in report.errors.iter().enumerate() {
-                println!("{} {what}: RMS {:.5}  relative {:.4}  max {:.4}", k + 1, e.rms, e.rms_relative, e.max);
-            }
-            m
-        }
-        None => Material::from_fit(settings, fit, provenance)?,
-    };
-    let per_view = report::view_errors(&samples, &views, &material);
-    let image = report::image(&views, &material)?;
-    save(&material, &args.out)?;
-    let report_path = args.out.join("report.png");
-    image.write_png(&report_path)?;
+    let per_view = fitted.view_errors(&views);
+    let report_path = fitted.save(&views, &args.out)?;
 
     for (k, (view, e)) in views.iter().zip(&per_view).enumerate() {
         println!(
@@ -268,13 +218,14 @@ fn run_paintings(args: &FitArgs, settings: &Settings) -> Result<()> {
             k + 1,
             view.name,
             view.source,
-            samples.per_view[k],
+            fitted.samples.per_view[k],
             e.rms,
             e.rms_relative,
             e.max
         );
     }
-    let cache_note = match &fitted.outcome {
+    let solved = &fitted.solved;
+    let cache_note = match &solved.outcome {
         Outcome::Hit => "cache hit".to_string(),
         Outcome::Miss => "cache miss, stored".to_string(),
         Outcome::Rebuilt(why) => format!("cache file rebuilt ({why})"),
@@ -282,18 +233,19 @@ fn run_paintings(args: &FitArgs, settings: &Settings) -> Result<()> {
     };
     println!(
         "{} samples, {} unknowns: prepare {:.1} ms ({}, {}), solve {:.2} ms",
-        samples.len(),
-        fitted.prepared.unknowns(),
-        fitted.prepare_s * 1e3,
-        fitted.prepared.solver_kind(),
+        fitted.samples.len(),
+        solved.prepared.unknowns(),
+        solved.prepare_s * 1e3,
+        solved.prepared.solver_kind(),
         cache_note,
-        fitted.solve_s * 1e3
+        solved.solve_s * 1e3
     );
-    let e = material.provenance.errors.unwrap_or(fit.errors);
-    match &map {
-        Some((m, report)) => println!(
+    let e = fitted.errors();
+    let m = &fitted.material;
+    match &fitted.map {
+        Some((report, _)) => println!(
             "{} with {} terms (fitted in {:.1} ms): RMS {:.5}  relative {:.4}  max {:.4}; wrote {} and {}",
-            if m.kind == crate::material::Kind::Hybrid { "hybrid" } else { "material map" },
+            if m.kind == Kind::Hybrid { "hybrid" } else { "material map" },
             m.terms.len(),
             report.seconds * 1e3,
             e.rms,
@@ -303,12 +255,10 @@ fn run_paintings(args: &FitArgs, settings: &Settings) -> Result<()> {
             report_path.display()
         ),
         None => {
-            for (map, e) in &fit.tried {
-                println!("  mapping {:<8} RMS {:.5}  relative {:.4}  max {:.4}", map.name(), e.rms, e.rms_relative, e.max);
-            }
+            print_mappings(&solved.fit);
             println!(
                 "kept {}: RMS {:.5}  relative {:.4}  max {:.4}; wrote {} and {}",
-                fit.map.name(),
+                solved.fit.map.name(),
                 e.rms,
                 e.rms_relative,
                 e.max,
@@ -318,27 +268,4 @@ fn run_paintings(args: &FitArgs, settings: &Settings) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// A material map (or hybrid) on the prepared system of the paintings: the pixel grids of
-/// the views fill the coefficient textures' gaps.
-fn fit_map(
-    args: &FitArgs,
-    samples: &Samples,
-    views: &[sample::PaintedView],
-    prepared: &crate::factor::Prepared,
-) -> Result<(Material, crate::material::map::MapReport)> {
-    use crate::material::map::{self, MapOptions};
-    let grids = samples.grids(views);
-    let opts = MapOptions {
-        terms: args.terms.unwrap_or(MapOptions::default().terms),
-        coef_res: args.uv_res.unwrap_or(MapOptions::default().coef_res),
-        mapping: args.mapping,
-        method: match args.map_fit {
-            Some(MapFitArg::Greedy) => map::Method::Greedy,
-            Some(MapFitArg::Cluster) | None => map::Method::Cluster,
-        },
-        ..Default::default()
-    };
-    map::fit(prepared, &samples.pattern, &samples.values, &grids, &opts)
 }

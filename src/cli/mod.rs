@@ -1,16 +1,32 @@
-//! The `brdfpaint` command line (DESIGN.md, Command line). Every subcommand here works end
-//! to end; errors are one line on stderr with exit code 1, usage errors exit with 2.
+//! The `brdfpaint` command line (DESIGN.md, Command line): part of the binary, not the
+//! library. It parses, calls the library (the fit path is [`brdfpaint::pipeline`]) and
+//! prints. Errors are one line on stderr with exit code 1, usage errors exit with 2.
 
 mod bench;
 mod demo;
 mod fit;
 mod render;
 mod sheet;
+#[cfg(feature = "viewer")]
 mod view;
 
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+
+use brdfpaint::Error;
+
+/// Why a subcommand failed: a usage error (exit code 2) or a failure of the work (1).
+pub enum Failure {
+    Usage(String),
+    Error(Error),
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        Failure::Error(e)
+    }
+}
 
 #[derive(Parser)]
 #[command(name = "brdfpaint", version, about = "Paint or photograph an object, get a real-time factored BRDF")]
@@ -34,6 +50,7 @@ enum Command {
     /// Write the coloring-book sheet to paint on: outline.png, reference.png, mask.png, scene.gltf.
     Sheet(sheet::SheetArgs),
     /// The real-time window: a material on a model, live painting, watch mode.
+    #[cfg(feature = "viewer")]
     View(Box<view::ViewArgs>),
     /// Reproduce the thesis's timing tables (5.1, 5.2) and time the GL shaders on this machine.
     Bench {
@@ -48,9 +65,6 @@ enum Command {
 
 /// Run the command line; the process's exit code.
 pub fn run() -> ExitCode {
-    std::panic::set_hook(Box::new(|info| {
-        eprintln!("error: internal error (please report): {info}");
-    }));
     let cli = match Cli::try_parse() {
         Ok(c) => c,
         Err(e) => {
@@ -60,16 +74,21 @@ pub fn run() -> ExitCode {
         }
     };
     let result = match cli.command {
-        Command::Demo(args) => demo::run(args),
+        Command::Demo(args) => demo::run(args).map_err(Failure::from),
         Command::Fit(args) => fit::run(*args),
-        Command::Render(args) => render::run(args),
-        Command::Sheet(args) => sheet::run(args),
-        Command::Bench { json, quick } => bench::run(json, quick),
-        Command::View(args) => view::run(*args),
+        Command::Render(args) => render::run(args).map_err(Failure::from),
+        Command::Sheet(args) => sheet::run(args).map_err(Failure::from),
+        Command::Bench { json, quick } => bench::run(json, quick).map_err(Failure::from),
+        #[cfg(feature = "viewer")]
+        Command::View(args) => view::run(*args).map_err(Failure::from),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
+        Err(Failure::Usage(e)) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Error(e)) => {
             eprintln!("error: {e}");
             ExitCode::from(1)
         }

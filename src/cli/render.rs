@@ -3,12 +3,12 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::error::{Error, Result};
-use crate::gl::{HeadlessContext, Limits};
-use crate::material::Material;
-use crate::render::orbit::{orbit_centre, orbit_frame};
-use crate::render::{GpuScene, Orbit, Renderer, Shading};
-use crate::scene::{self, Projection, Scene};
+use brdfpaint::error::{Error, Result};
+use brdfpaint::gl::{HeadlessContext, Limits};
+use brdfpaint::material::Material;
+use brdfpaint::render::orbit::{orbit_centre, orbit_frame};
+use brdfpaint::render::{GpuScene, Orbit, Renderer};
+use brdfpaint::scene::{self, Projection, Scene};
 
 /// Default image height (and width, unless a scene's camera sets the aspect).
 const DEFAULT_SIDE: usize = 512;
@@ -156,7 +156,7 @@ pub(super) fn run(args: RenderArgs) -> Result<()> {
     }
     let material = Material::load(&args.material)?;
     let json = if args.material.is_dir() { args.material.join("material.json") } else { args.material.clone() };
-    let shading = Shading::from_material(&material).map_err(|e| Error::format(&json, e.to_string()))?;
+    brdfpaint::render::check(&material).map_err(|e| Error::format(&json, e.to_string()))?;
     let Resolved { scene, width, height, name } = args.scene.resolve()?;
     if material.needs_uv() {
         if let Some(k) = scene.meshes.iter().position(|m| m.uvs.is_none()) {
@@ -173,7 +173,7 @@ pub(super) fn run(args: RenderArgs) -> Result<()> {
     };
     let ctx = HeadlessContext::new()?;
     let mut renderer = Renderer::new(ctx.gl())?;
-    let gpu_shading = renderer.upload(&shading)?;
+    let gpu_shading = renderer.upload(&material)?;
     let mut gpu = GpuScene::upload(ctx.gl(), &scene)?;
     let centre = orbit_centre(&scene);
 
@@ -185,7 +185,7 @@ pub(super) fn run(args: RenderArgs) -> Result<()> {
                 (gpu.camera, gpu.light) = orbit_frame(&scene.camera, &scene.light, centre, orbit, k, frames);
             }
             let image = renderer.factored(&gpu, &gpu_shading, width, height)?.to_rgb();
-            let tmp = crate::util::temp_sibling(path);
+            let tmp = brdfpaint::util::temp_sibling(path);
             written.push((tmp.clone(), path.clone()));
             match format {
                 // Name the real file in errors, not the temporary one.

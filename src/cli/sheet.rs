@@ -3,10 +3,10 @@
 use std::path::PathBuf;
 
 use super::render::{Resolved, SceneArgs};
-use crate::error::Result;
-use crate::gl::HeadlessContext;
-use crate::render::sheet::{check_output, Sheet};
-use crate::render::Renderer;
+use brdfpaint::error::Result;
+use brdfpaint::gl::HeadlessContext;
+use brdfpaint::render::sheet::{check_output, Sheet};
+use brdfpaint::render::Renderer;
 
 #[derive(clap::Args)]
 pub(super) struct SheetArgs {

@@ -3,10 +3,10 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
-use crate::error::{Error, Result};
-use crate::material::Material;
-use crate::scene::{model_meshes, Scene};
-use crate::viewer::{self, Mode, Options, Start};
+use brdfpaint::error::{Error, Result};
+use brdfpaint::material::Material;
+use brdfpaint::scene::{model_meshes, Scene};
+use brdfpaint::viewer::{self, Mode, Options, Start};
 
 #[derive(clap::Args)]
 pub(super) struct ViewArgs {
@@ -30,7 +30,7 @@ pub(super) struct ViewArgs {
     #[arg(long, value_name = "NAME", default_value = "sphere")]
     paint_model: String,
     /// Painting size in pixels (square standard views; the height of a --scene view).
-    #[arg(long, value_name = "N", default_value_t = crate::viewer::paint::DEFAULT_SIZE)]
+    #[arg(long, value_name = "N", default_value_t = brdfpaint::viewer::paint::DEFAULT_SIZE)]
     size: usize,
     /// Window size.
     #[arg(long, value_name = "WxH", default_value = "1280x800")]
@@ -63,7 +63,7 @@ fn parse_size(s: &str) -> Result<[u32; 2]> {
 pub(super) fn run(args: ViewArgs) -> Result<()> {
     // Everything that can fail on input is checked before a window opens.
     let window = parse_size(&args.window)?;
-    crate::images::check_size(args.size, args.size)?;
+    brdfpaint::images::check_size(args.size, args.size)?;
     if !(16..=4096).contains(&args.size) {
         return Err(Error::input(format!("painting size {} is outside 16..=4096", args.size)));
     }
@@ -77,7 +77,7 @@ pub(super) fn run(args: ViewArgs) -> Result<()> {
         Some(p) => Some((p.display().to_string(), Scene::load(p)?)),
         None => None,
     };
-    let min = crate::viewer::MIN_RENDER_SCALE;
+    let min = brdfpaint::viewer::MIN_RENDER_SCALE;
     if !(min..=1.0).contains(&args.render_scale) {
         return Err(Error::input(format!("--render-scale {} is outside {min}..=1", args.render_scale)));
     }

@@ -41,16 +41,17 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::factor::cache::{Cache, Outcome};
-use crate::factor::{defaults, Errors, Mapping, Settings};
+use crate::factor::{defaults, Errors, Settings};
 use crate::images::Painting;
-use crate::material::map::{self, MapOptions};
-use crate::material::{Kind, Material, Provenance};
-use crate::render::{GpuScene, Image, Shading, Sheet};
-use crate::sample::fidelity::{held_out_presets, StudyView};
-use crate::sample::scene::geometry_from_gbuffer;
-use crate::sample::{self, check_same_model, report, Erosion, PaintedView, Samples, SceneSampler};
-use crate::scene::{builtin_model, frame, Light, Preset, Scene};
-use paintings::{FitKind, MaterialSpec, Truth, SIZE};
+use crate::material::{Kind, Material};
+use crate::pipeline;
+use crate::render::{GpuScene, Image, Sheet};
+use crate::scene::spherical_uvs;
+use crate::study::fidelity::held_out_presets;
+use crate::study::{held_out_error, Coverage, StudyView};
+use crate::sample::{Erosion, PaintedView, SceneSampler};
+use crate::scene::{builtin_model, frame, Preset, Scene};
+use paintings::{FitKind, MaterialSpec, SIZE};
 
 /// Where `brdfpaint demo` writes by default.
 pub const DEFAULT_DIR: &str = "demo-out";
@@ -244,7 +245,7 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
         // back of the sphere shows stripes nobody painted).
         let painted = spec.truth.is_spatial().then(|| Coverage::of(&f.views));
         let judge = |m: &Material| -> Result<Option<f64>> {
-            if spec.truth.is_known() { held_out_error(m, &spec.truth, &held, painted.as_ref()).map(Some) } else { Ok(None) }
+            spec.truth.known().map(|t| held_out_error(m, t, &held, painted.as_ref())).transpose()
         };
         let held_out = judge(&f.material)?;
         let uniform_held_out = match &f.uniform {
@@ -261,15 +262,14 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
     std::fs::create_dir_all(&renders_dir).map_err(|e| Error::io(&renders_dir, e))?;
     let mut scenes: Vec<(&str, Scene)> = vec![("sphere", Scene::load(&scene_paths[0])?)];
     for r in retargets() {
-        scenes.push((r.model, frame(with_uvs(builtin_model(r.model)?), &r.preset, 1.0)));
+        scenes.push((r.model, frame(spherical_uvs(builtin_model(r.model)?), &r.preset, 1.0)));
     }
     let renderer = sampler.renderer();
     let gpu_scenes: Vec<GpuScene> =
         scenes.iter().map(|(_, s)| GpuScene::upload(renderer.gl(), s)).collect::<Result<_>>()?;
     let mut renders: Vec<Vec<Image>> = Vec::new();
     for (spec, f) in specs.iter().zip(&fitted) {
-        let shading = Shading::from_material(&f.material)?;
-        let gpu = renderer.upload(&shading)?;
+        let gpu = renderer.upload(&f.material)?;
         let mut row = Vec::new();
         for ((model, _), scene) in scenes.iter().zip(&gpu_scenes) {
             let image = renderer.factored(scene, &gpu, SIZE, SIZE)?;
@@ -314,9 +314,9 @@ impl Fitted {
     }
 }
 
-/// Fits one material from its paintings: the code path of `brdfpaint fit --scene S --image P
-/// [--scene S2 --image P2]` with the default settings, writing `materials/NAME/` with its
-/// report.png.
+/// Fits one material from its paintings through [`crate::pipeline`], exactly as `brdfpaint
+/// fit --scene S --image P [--scene S2 --image P2]` fits it with the default settings,
+/// writing `materials/NAME/` with its report.png.
 fn fit_material(
     sampler: &mut SceneSampler,
     spec: &MaterialSpec,
@@ -325,152 +325,40 @@ fn fit_material(
     settings: &Settings,
     cache: Option<&Cache>,
 ) -> Result<Fitted> {
-    let mut views = Vec::new();
-    let mut scenes: Vec<(Scene, String)> = Vec::new();
-    let mut sources = Vec::new();
-    for p in &spec.paintings {
-        let scene_path = &scene_paths[p.view];
-        let painting_path = tmp.join("paintings").join(p.file);
-        let (scene, mut view) = sampler.load_view(scene_path, &painting_path, Erosion::default())?;
-        // Name the files as they are in DIR, not in the temporary directory.
-        let scene_name = format!("{}/scene.gltf", paintings::views()[p.view].dir);
+    let pairs: Vec<(PathBuf, PathBuf)> =
+        spec.paintings.iter().map(|p| (scene_paths[p.view].clone(), tmp.join("paintings").join(p.file))).collect();
+    let mut views = pipeline::load_views(sampler, &pairs, Erosion::default())?;
+    // Name the files as they are in DIR, not in the temporary directory.
+    for (view, p) in views.iter_mut().zip(&spec.paintings) {
         view.name = format!("paintings/{}", p.file);
-        view.source = scene_name.clone();
-        if let Some((first, first_name)) = scenes.first() {
-            check_same_model(first, first_name, &scene, &scene_name)?;
-        }
-        sources.push(scene_name.clone());
-        sources.push(view.name.clone());
-        scenes.push((scene, scene_name));
-        views.push(view);
+        view.source = format!("{}/scene.gltf", paintings::views()[p.view].dir);
     }
-    let samples = Samples::gather(&views)?;
-    let fitted = sample::fit(&samples, settings, Mapping::Auto, cache)?;
-    let provenance = Provenance {
-        tool: format!("brdfpaint {} (demo)", env!("CARGO_PKG_VERSION")),
-        sources,
-        errors: Some(fitted.fit.errors),
-        samples: samples.len(),
-        prepare_s: fitted.prepare_s,
-        solve_s: fitted.solve_s,
-    };
-    let uniform = Material::from_fit(settings, &fitted.fit, provenance.clone())?;
-    // `brdfpaint fit --kind material-map`: the terms are fitted on the system prepared (and
-    // cached) for the uniform fit, with the painted pixel grids filling texture gaps.
-    let (material, uniform, errors, solve_s) = match spec.kind {
-        FitKind::Uniform => (uniform, None, fitted.fit.errors, fitted.solve_s),
-        FitKind::MaterialMap { terms } => {
-            let opts = MapOptions { terms, ..Default::default() };
-            let grids = samples.grids(&views);
-            let (mut m, report) = map::fit(&fitted.prepared, &samples.pattern, &samples.values, &grids, &opts)?;
-            let errors = report.fitted;
-            m.provenance = Provenance { errors: Some(errors), solve_s: report.seconds, ..provenance };
-            (m, Some(uniform), errors, report.seconds)
-        }
-    };
-    let out = tmp.join("materials").join(spec.name);
-    material.save(&out)?;
-    report::image(&views, &material)?.write_png(&out.join("report.png"))?;
-    let kind = match material.kind {
-        Kind::MaterialMap | Kind::Hybrid => format!("map/{}", material.terms.len()),
+    let mut opts = pipeline::Options { settings: settings.clone(), ..Default::default() };
+    if let FitKind::MaterialMap { terms } = spec.kind {
+        opts.kind = Kind::MaterialMap;
+        opts.map.terms = terms;
+    }
+    let fitted = pipeline::fit(&views, &opts, cache)?;
+    fitted.save(&views, &tmp.join("materials").join(spec.name))?;
+    let kind = match fitted.material.kind {
+        Kind::MaterialMap | Kind::Hybrid => format!("map/{}", fitted.material.terms.len()),
         Kind::Uniform | Kind::FourFactor => "uniform".to_string(),
     };
     let row = Row {
         name: spec.name.to_string(),
         description: spec.truth.describe(),
         views: views.len(),
-        samples: samples.len(),
+        samples: fitted.samples.len(),
         kind,
-        prepare_s: fitted.prepare_s,
-        solve_s,
-        outcome: fitted.outcome,
-        errors,
+        prepare_s: fitted.solved.prepare_s,
+        solve_s: fitted.solve_s(),
+        outcome: fitted.solved.outcome.clone(),
+        errors: fitted.errors(),
         held_out: None,
         uniform_held_out: None,
     };
-    Ok(Fitted { material, uniform, views, row })
-}
-
-/// `meshes` with texture coordinates where they have none: the built-in sphere's $(u, v)$
-/// (`sphere_mesh`: $u = \mathrm{atan2}(x, z)/2\pi + \tfrac12$, $v = \arccos y/\pi$) of the
-/// direction from the model's centre, so that a material map painted on the sphere wraps
-/// around a retargeted model as it wrapped around the sphere. Meshes without uvs would
-/// otherwise read every coefficient texture at uv = 0 (`render::Mesh::upload`): one stripe
-/// everywhere. Tangents are left as they are (none: the renderer's azimuthal fallback), so
-/// uniform materials render exactly as before.
-fn with_uvs(mut meshes: Vec<crate::scene::CpuMesh>) -> Vec<crate::scene::CpuMesh> {
-    let centre = crate::scene::BoundingSphere::of(&meshes).map_or(glam::Vec3::ZERO, |b| b.center);
-    for m in meshes.iter_mut().filter(|m| m.uvs.is_none()) {
-        let uvs = m
-            .positions
-            .iter()
-            .map(|&p| {
-                let d = (p - centre).normalize_or(glam::Vec3::Y);
-                let u = d.x.atan2(d.z) / std::f32::consts::TAU + 0.5;
-                glam::Vec2::new(u, d.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI)
-            })
-            .collect();
-        m.uvs = Some(uvs);
-    }
-    meshes
-}
-
-/// Relative RMS $\sqrt{\sum (m - t)^2 / \sum t^2}$ of `material` against the true shading
-/// function over every usable pixel of the held-out views, all channels. Both are evaluated
-/// at the pixel's whole query, uv included: a spatially varying truth and a material map
-/// are compared point by point on the surface.
-pub fn held_out_error(material: &Material, truth: &Truth, held_out: &[StudyView], painted: Option<&Coverage>) -> Result<f64> {
-    let white = Light::Directional { direction: -glam::Vec3::Z, color: glam::Vec3::ONE, intensity: 1.0 };
-    let (mut num, mut den) = (0.0, 0.0);
-    for view in held_out {
-        let g = geometry_from_gbuffer(&view.gbuffer, &white, true, Erosion::default())?;
-        for (px, _) in g.pixels.iter().zip(&g.usable).filter(|(_, &u)| u) {
-            let q = px.expect("usable pixels have geometry").query;
-            if painted.is_some_and(|c| !c.covers(q.uv)) {
-                continue;
-            }
-            let Some(t) = truth.shading(&q) else {
-                return Err(Error::input("the held-out error needs a known shading function"));
-            };
-            let m = material.eval(&q);
-            for c in 0..3 {
-                num += (m[c] - t[c]).powi(2);
-                den += t[c] * t[c];
-            }
-        }
-    }
-    Ok((num / den.max(f64::MIN_POSITIVE)).sqrt())
-}
-
-/// Where on the surface the paintings have samples: cells of a 64² uv grid.
-pub struct Coverage {
-    cells: Vec<bool>,
-}
-
-impl Coverage {
-    const RES: usize = 64;
-
-    /// The cells the samples of `views` fall in.
-    pub fn of(views: &[PaintedView]) -> Coverage {
-        let mut cells = vec![false; Self::RES * Self::RES];
-        for v in views {
-            for (px, _) in v.geometry.pixels.iter().zip(&v.geometry.usable).filter(|(_, &u)| u) {
-                if let Some(px) = px {
-                    cells[Self::cell(px.query.uv)] = true;
-                }
-            }
-        }
-        Coverage { cells }
-    }
-
-    fn cell(uv: glam::DVec2) -> usize {
-        crate::factor::param::uv_nearest_node(uv, Self::RES)
-    }
-
-    /// Whether texture coordinates fall in a painted cell.
-    pub fn covers(&self, uv: glam::DVec2) -> bool {
-        self.cells[Self::cell(uv)]
-    }
+    let uniform = fitted.map.map(|(_, u)| u);
+    Ok(Fitted { material: fitted.material, uniform, views, row })
 }
 
 /// The one-screen summary.

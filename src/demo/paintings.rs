@@ -17,7 +17,7 @@
 use glam::Vec3;
 
 use super::brush::{self, Brush};
-use crate::brdf::{Abc, Analytic, Striped};
+use crate::brdf::{Abc, Analytic, Reflectance, Striped};
 use crate::error::{Error, Result};
 use crate::factor::Query;
 use crate::images::{encode_srgb8, Rgb};
@@ -76,16 +76,9 @@ pub enum Truth {
 }
 
 impl Truth {
-    /// The shading function $S(l, v; u, v)$ the painting shows at query `q`, where it is
-    /// known. Only [`Truth::Banded`] depends on the query's uv.
-    pub fn shading(&self, q: &Query) -> Option<[f64; 3]> {
-        let (l, v) = (q.l, q.v);
-        match self {
-            Truth::Analytic(a) => Some(a.shading(l, v)),
-            Truth::Abc { model, exposure } => Some(model.shading(l, v).map(|x| x * exposure)),
-            Truth::Matcap { .. } => None,
-            Truth::Banded(stripes) => Some(stripes.shading(q)),
-        }
+    /// The shading function the painting shows, where it is known (not for a MatCap).
+    pub fn known(&self) -> Option<&dyn Reflectance> {
+        self.is_known().then_some(self as &dyn Reflectance)
     }
 
     /// Whether the shading varies over the surface (a material map fits it).
@@ -107,6 +100,20 @@ impl Truth {
             Truth::Abc { model, .. } => format!("MERL {} (ABC)", model.name),
             Truth::Matcap { name } => format!("MatCap {name} (CC0)"),
             Truth::Banded(stripes) => format!("wood, {} bands", stripes.bands),
+        }
+    }
+}
+
+impl Reflectance for Truth {
+    /// The shading function $S(l, v; u, v)$ the painting shows at query `q`; only
+    /// [`Truth::Banded`] depends on the query's uv. NaN for a MatCap, whose shading is not
+    /// known: ask [`Truth::known`] first.
+    fn shading(&self, q: &Query) -> [f64; 3] {
+        match self {
+            Truth::Analytic(a) => a.shading(q),
+            Truth::Abc { model, exposure } => model.shading(q).map(|x| x * exposure),
+            Truth::Matcap { .. } => [f64::NAN; 3],
+            Truth::Banded(stripes) => stripes.shading(q),
         }
     }
 }
@@ -337,7 +344,7 @@ pub fn paint(truth: &Truth, g: &GBuffer, scene: &Scene, brush: Option<&Brush>, m
                 let v = px.v.as_dvec3();
                 let v = glam::DVec3::new(v.x, v.y, v.z.max(1e-3)).normalize_or(glam::DVec3::Z);
                 let uv = glam::DVec2::new(px.uv.x as f64, px.uv.y as f64);
-                let s = t.shading(&Query { l, v, uv }).expect("known truth");
+                let s = t.shading(&Query { l, v, uv });
                 let f = px.falloff as f64;
                 [0, 1, 2].map(|c| s[c] * light[c] * f)
             }

@@ -261,7 +261,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let cache = Cache::new(dir.path().join("c"));
         let pattern = SphereView::new(DVec3::new(-0.5, 0.5, 1.0), 40).pattern();
-        let values = pattern.shade(|l, v| Analytic::suite()[2].shading(l, v));
+        let values = pattern.shade(|q| crate::brdf::Reflectance::shading(&Analytic::suite()[2], q));
         let (fresh, o) = cache.prepare(&pattern, settings).unwrap();
         assert_eq!(o, Outcome::Miss);
         let (cached, o) = cache.prepare(&pattern, settings).unwrap();

@@ -18,6 +18,11 @@ pub struct Query {
 }
 
 impl Query {
+    /// A query without texture coordinates.
+    pub fn at(l: DVec3, v: DVec3) -> Query {
+        Query { l, v, uv: DVec2::ZERO }
+    }
+
     /// The half vector $h = (l + v) / |l + v|$. When $l = -v$ it is undefined; the normal is
     /// returned then, a choice that only affects a set of measure zero.
     pub fn h(&self) -> DVec3 {
@@ -94,8 +99,8 @@ impl Pattern {
     }
 
     /// Evaluate a shading function at every sample: the values a painting of it would have.
-    pub fn shade(&self, f: impl Fn(DVec3, DVec3) -> [f64; 3]) -> Vec<[f64; 3]> {
-        self.queries.iter().map(|q| f(q.l, q.v)).collect()
+    pub fn shade(&self, f: impl Fn(&Query) -> [f64; 3]) -> Vec<[f64; 3]> {
+        self.queries.iter().map(f).collect()
     }
 
     /// Concatenate patterns (several views of one material, thesis 4.4).

@@ -14,6 +14,7 @@ mod store;
 
 use serde::{Deserialize, Serialize};
 
+use crate::brdf::Reflectance;
 use crate::error::{Error, Result};
 use crate::factor::system::coordinate;
 use crate::factor::table::{stencil_1d, stencil_2d};
@@ -31,6 +32,18 @@ pub enum Kind {
     MaterialMap,
     /// A material map whose terms are four-factor products (4.3).
     Hybrid,
+}
+
+impl Kind {
+    /// The name material.json and the command line use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Uniform => "uniform",
+            Kind::FourFactor => "four-factor",
+            Kind::MaterialMap => "material-map",
+            Kind::Hybrid => "hybrid",
+        }
+    }
 }
 
 /// One factor table of a term.
@@ -136,6 +149,11 @@ impl Term {
 }
 
 impl Material {
+    /// A material of `terms`, without provenance.
+    pub fn new(kind: Kind, terms: Vec<Term>) -> Material {
+        Material { kind, terms, provenance: Provenance::default() }
+    }
+
     /// A uniform (or four-factor) material from a fit of one product.
     pub fn from_fit(settings: &Settings, fit: &Fit, provenance: Provenance) -> Result<Material> {
         if let Some(f) = settings.factors.iter().find(|f| matches!(f.input, Input::Custom(_))) {
@@ -154,9 +172,16 @@ impl Material {
         Ok(Material { kind, terms: vec![Term { factors, map: fit.map, coefficients: None }], provenance })
     }
 
+    /// Whether any factor or coefficient texture looks up texture coordinates.
+    pub fn needs_uv(&self) -> bool {
+        self.terms.iter().any(|t| t.coefficients.is_some() || t.factors.iter().any(|f| f.spec.input == Input::Uv))
+    }
+}
+
+impl Reflectance for Material {
     /// The shading function $S = f_r \cos\theta_l$ at a query: what a pixel shows under a
-    /// unit white light.
-    pub fn eval(&self, q: &Query) -> [f64; 3] {
+    /// unit white light. The reference the GL renderer is tested against.
+    fn shading(&self, q: &Query) -> [f64; 3] {
         let mut sum = [0.0; 3];
         for term in &self.terms {
             let w = term.coefficients.as_ref().map_or([1.0; 3], |c| c.lookup(q.uv));
@@ -166,11 +191,6 @@ impl Material {
             }
         }
         sum
-    }
-
-    /// Whether any factor or coefficient texture looks up texture coordinates.
-    pub fn needs_uv(&self) -> bool {
-        self.terms.iter().any(|t| t.coefficients.is_some() || t.factors.iter().any(|f| f.spec.input == Input::Uv))
     }
 }
 

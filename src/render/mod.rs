@@ -31,14 +31,12 @@
 
 mod camera;
 mod gbuffer;
-mod material;
 pub mod mesh;
 pub mod orbit;
 mod shading;
 pub mod sheet;
 
 use std::collections::HashMap;
-use std::time::Instant;
 
 use glam::Vec3;
 use glow::HasContext;
@@ -47,10 +45,11 @@ pub use camera::{LightUniforms, View};
 pub use gbuffer::{GBuffer, GPixel, OutlineStyle};
 pub use mesh::Mesh;
 pub use orbit::Orbit;
-pub use shading::{CoefTexture, FactorTexture, GpuShading, Shading, Term, MAX_FACTORS, MAX_TERMS};
+pub use shading::{check, GpuShading, MAX_FACTORS, MAX_TERMS};
 pub use sheet::{reference_exposure, Sheet, SHEET_FILES};
 
 use crate::error::{Error, Result};
+use crate::material::Material;
 use crate::gl::{header, Framebuffer, Gl, Program};
 use crate::scene::{Camera, Light, Scene};
 
@@ -142,21 +141,6 @@ impl Default for Ggx {
     }
 }
 
-/// Frame times of the factored and the analytic shader on the same mesh and image size.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct FrameTimes {
-    /// Median milliseconds per factored frame (all terms), clear to `glFinish`.
-    pub factored_ms: f64,
-    /// Median milliseconds per analytic GGX frame.
-    pub analytic_ms: f64,
-    /// `factored_ms / analytic_ms`.
-    pub ratio: f64,
-    pub frames: usize,
-    pub width: usize,
-    pub height: usize,
-    pub triangles: usize,
-}
-
 /// Draws [`GpuScene`]s with the passes of this module. Holds its programs (factored ones
 /// are compiled per term layout on first use) and an offscreen target reused while the
 /// size stays the same. Use it on the thread of its context.
@@ -188,8 +172,8 @@ impl Renderer {
     }
 
     /// Uploads a shading function for [`Renderer::factored`].
-    pub fn upload(&self, shading: &Shading) -> Result<GpuShading> {
-        GpuShading::upload(&self.gl, shading)
+    pub fn upload(&self, material: &Material) -> Result<GpuShading> {
+        GpuShading::upload(&self.gl, material)
     }
 
     /// The factored shading function under the scene's light:
@@ -350,57 +334,10 @@ impl Renderer {
         Ok(self.gbuffer(scene, width, height)?.outline(style))
     }
 
-    /// Median frame times of the factored shading and the analytic GGX shader, interleaved
-    /// frame by frame, each frame a clear, the draw and `glFinish` (after `frames / 10 + 1`
-    /// untimed warm-up frames of each).
-    pub fn bench(
-        &mut self,
-        scene: &GpuScene,
-        shading: &GpuShading,
-        model: &Ggx,
-        width: usize,
-        height: usize,
-        frames: usize,
-    ) -> Result<FrameTimes> {
-        if frames == 0 {
-            return Err(Error::input("frame timing needs at least one frame"));
-        }
-        let (mut factored, mut analytic) = (Vec::with_capacity(frames), Vec::with_capacity(frames));
-        let warm = frames / 10 + 1;
-        for k in 0..warm + frames {
-            let start = Instant::now();
-            self.begin(width, height)?;
-            self.draw_factored(scene, shading, width, height)?;
-            // SAFETY: waits for the GPU on the current context.
-            unsafe { self.gl.finish() };
-            let t_factored = start.elapsed().as_secs_f64() * 1e3;
-            let start = Instant::now();
-            self.begin(width, height)?;
-            self.draw_ggx(scene, model, width, height)?;
-            // SAFETY: as above.
-            unsafe { self.gl.finish() };
-            let t_analytic = start.elapsed().as_secs_f64() * 1e3;
-            if k >= warm {
-                factored.push(t_factored);
-                analytic.push(t_analytic);
-            }
-        }
-        let (f, a) = (median(&mut factored), median(&mut analytic));
-        Ok(FrameTimes {
-            factored_ms: f,
-            analytic_ms: a,
-            ratio: f / a,
-            frames,
-            width,
-            height,
-            triangles: scene.triangles(),
-        })
-    }
-
     /// Binds the offscreen target of this size (made or remade as needed), clears colour to
     /// (0, 0, 0, 0) and depth to 1, enables the depth test (`LESS`), no blending, no culling
     /// (meshes are drawn two-sided).
-    fn begin(&mut self, width: usize, height: usize) -> Result<()> {
+    pub fn begin(&mut self, width: usize, height: usize) -> Result<()> {
         Framebuffer::sized(&mut self.target, &self.gl, width, height)?.begin_pass();
         crate::gl_check!(self.gl, "target setup");
         Ok(())
@@ -426,14 +363,4 @@ fn mesh_program(gl: &Gl, name: &str, defines: &[(&str, String)], fragment: &str)
     let vs = format!("{head}{}", sources::MESH_VERT);
     let fs = format!("{head}{}\n{}\n{fragment}", sources::SURFACE, sources::PARAM);
     Program::new(gl, name, &vs, &fs)
-}
-
-fn median(x: &mut [f64]) -> f64 {
-    x.sort_by(f64::total_cmp);
-    let n = x.len();
-    if n % 2 == 1 {
-        x[n / 2]
-    } else {
-        0.5 * (x[n / 2 - 1] + x[n / 2])
-    }
 }

@@ -1,156 +1,96 @@
-//! Factored shading functions as the renderer takes them, and their GPU form.
-//!
-//! A [`Shading`] is a sum of [`Term`]s (one for a uniform material, several for a material
-//! map, thesis 4.2):
+//! Materials on the GPU: a [`Material`] uploaded as float textures with the `#define`s of
+//! its shader program. The renderer draws exactly the function [`Material`] evaluates on the
+//! CPU,
 //!
 //! $$ S(l, v, uv) = \sum_k c_k(uv)\, \mathrm{inv}_k\Big(\prod_j p_{kj}(\pi_{kj}(l, v, uv))\Big) $$
 //!
 //! where $\mathrm{inv}_k$ undoes the term's log mapping (thesis eq. 3.14, 3.16) and $c_k$ is
-//! its coefficient texture (1 when absent).
+//! its coefficient texture (1 when absent), with the same node-based tables, so the GL image
+//! of a material equals its CPU evaluation at the G-buffer's queries
+//! (tests/render_material.rs). The GLSL codes of inputs, parameterizations, domains and
+//! mappings are defined once, in `shaders/param.glsl`; a program's `#define`s name them.
 
 use glam::Vec3;
 
 use crate::error::{Error, Result};
-use crate::factor::{Domain, FactorSpec, Fit, Input, LogMap, Param, Settings};
+use crate::factor::{Domain, Input, LogMap, Param};
 use crate::gl::{Filter, Gl, Limits, TexelFormat, Texture2D};
+use crate::material::Material;
 
 /// Most factors one term may have.
 pub const MAX_FACTORS: usize = 6;
-/// Most terms a shading function may have.
+/// Most terms a material may have to be drawn.
 pub const MAX_TERMS: usize = 8;
 
-/// One factor's table: its spec and linear-space RGB values at the table's nodes, row by row
-/// (index $y \cdot M + x$ for 2D tables, as in [`crate::factor::table`]).
-#[derive(Clone, Debug, PartialEq)]
-pub struct FactorTexture {
-    pub spec: FactorSpec,
-    pub texels: Vec<[f32; 3]>,
-}
-
-/// A term's coefficient over texture coordinates: `width` × `height` RGB values, row by row,
-/// **node-based** like a uv factor: texel $(x, y)$ is the coefficient at
-/// $uv = (x / (W - 1), y / (H - 1))$, bilinear in between, clamped outside $[0,1]^2$.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CoefTexture {
-    pub width: usize,
-    pub height: usize,
-    pub texels: Vec<[f32; 3]>,
-}
-
-impl CoefTexture {
-    /// A grey coefficient texture from one value per node.
-    pub fn scalar(width: usize, height: usize, values: &[f32]) -> CoefTexture {
-        CoefTexture { width, height, texels: values.iter().map(|&c| [c; 3]).collect() }
+/// Checks that the renderer can draw `material`. Errors ([`Error::Input`]) name the term and factor:
+/// no terms, too many terms or factors, custom inputs, a parameterization that does not
+/// fit the input, a texel count that does not match the resolution, non-finite values.
+pub fn check(material: &Material) -> Result<()> {
+    if material.terms.is_empty() {
+        return Err(Error::input("the material has no terms"));
     }
-}
-
-/// One term: a product of factors, its mapping, and its coefficient texture.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Term {
-    pub factors: Vec<FactorTexture>,
-    pub map: LogMap,
-    pub coefficients: Option<CoefTexture>,
-}
-
-impl Term {
-    /// The term a solve produced (no coefficient texture).
-    pub fn from_fit(settings: &Settings, fit: &Fit) -> Term {
-        let factors = settings
-            .factors
-            .iter()
-            .zip(&fit.tables)
-            .map(|(spec, table)| FactorTexture {
-                spec: spec.clone(),
-                texels: table.iter().map(|t| t.map(|x| x as f32)).collect(),
-            })
-            .collect();
-        Term { factors, map: fit.map, coefficients: None }
+    if material.terms.len() > MAX_TERMS {
+        return Err(Error::input(format!(
+            "the material has {} terms; the renderer draws at most {MAX_TERMS}",
+            material.terms.len()
+        )));
     }
-}
-
-/// A factored shading function: the sum of its terms.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Shading {
-    pub terms: Vec<Term>,
-}
-
-impl Shading {
-    /// A single-term shading function (a uniform material).
-    pub fn uniform(term: Term) -> Shading {
-        Shading { terms: vec![term] }
-    }
-
-    /// Checks the structure and values. Errors ([`Error::Input`]) name the term and factor:
-    /// no terms, too many terms or factors, custom inputs, a parameterization that does not
-    /// fit the input, a texel count that does not match the resolution, non-finite values.
-    pub fn validate(&self) -> Result<()> {
-        if self.terms.is_empty() {
-            return Err(Error::input("the shading function has no terms"));
-        }
-        if self.terms.len() > MAX_TERMS {
+    for (k, term) in material.terms.iter().enumerate() {
+        if term.factors.len() > MAX_FACTORS {
             return Err(Error::input(format!(
-                "the shading function has {} terms; the renderer draws at most {MAX_TERMS}",
-                self.terms.len()
+                "term {k} has {} factors; the renderer multiplies at most {MAX_FACTORS}",
+                term.factors.len()
             )));
         }
-        for (k, term) in self.terms.iter().enumerate() {
-            if term.factors.len() > MAX_FACTORS {
+        for (j, f) in term.factors.iter().enumerate() {
+            let at = || format!("term {k}, factor {j} ({})", f.spec.input.name());
+            match (&f.spec.input, f.spec.param) {
+                (Input::Custom(_), _) => {
+                    return Err(Error::input(format!("{}: custom inputs cannot be rendered", at())));
+                }
+                (Input::Uv, Param::Uv) => {}
+                (Input::Uv, p) => {
+                    return Err(Error::input(format!("{}: uv input with the {p:?} parameterization", at())));
+                }
+                _ => {}
+            }
+            if f.spec.res < 2 {
+                return Err(Error::input(format!("{}: resolution {} is below 2", at(), f.spec.res)));
+            }
+            if f.texels.len() != f.spec.len() {
                 return Err(Error::input(format!(
-                    "term {k} has {} factors; the renderer multiplies at most {MAX_FACTORS}",
-                    term.factors.len()
+                    "{}: {} texels for a {}D table of resolution {} ({} expected)",
+                    at(),
+                    f.texels.len(),
+                    f.spec.dim(),
+                    f.spec.res,
+                    f.spec.len()
                 )));
             }
-            for (j, f) in term.factors.iter().enumerate() {
-                let at = || format!("term {k}, factor {j} ({})", f.spec.input.name());
-                match (&f.spec.input, f.spec.param) {
-                    (Input::Custom(_), _) => {
-                        return Err(Error::input(format!("{}: custom inputs cannot be rendered", at())));
-                    }
-                    (Input::Uv, Param::Uv) => {}
-                    (Input::Uv, p) => {
-                        return Err(Error::input(format!("{}: uv input with the {p:?} parameterization", at())));
-                    }
-                    _ => {}
-                }
-                if f.spec.res < 2 {
-                    return Err(Error::input(format!("{}: resolution {} is below 2", at(), f.spec.res)));
-                }
-                if f.texels.len() != f.spec.len() {
-                    return Err(Error::input(format!(
-                        "{}: {} texels for a {}D table of resolution {} ({} expected)",
-                        at(),
-                        f.texels.len(),
-                        f.spec.dim(),
-                        f.spec.res,
-                        f.spec.len()
-                    )));
-                }
-                if let Some(bad) = f.texels.iter().position(|t| !t.iter().all(|x| x.is_finite())) {
-                    return Err(Error::input(format!("{}: texel {bad} is not finite", at())));
-                }
-            }
-            if !term.map.constant().iter().all(|x| x.is_finite()) {
-                return Err(Error::input(format!("term {k}: mapping constant is not finite")));
-            }
-            if let Some(c) = &term.coefficients {
-                if c.width == 0 || c.height == 0 || c.texels.len() != c.width * c.height {
-                    return Err(Error::input(format!(
-                        "term {k}: coefficient texture is {}x{} but has {} texels",
-                        c.width,
-                        c.height,
-                        c.texels.len()
-                    )));
-                }
-                if !c.texels.iter().all(|t| t.iter().all(|x| x.is_finite())) {
-                    return Err(Error::input(format!("term {k}: a coefficient is not finite")));
-                }
+            if let Some(bad) = f.texels.iter().position(|t| !t.iter().all(|x| x.is_finite())) {
+                return Err(Error::input(format!("{}: texel {bad} is not finite", at())));
             }
         }
-        Ok(())
+        if !term.map.constant().iter().all(|x| x.is_finite()) {
+            return Err(Error::input(format!("term {k}: mapping constant is not finite")));
+        }
+        if let Some(c) = &term.coefficients {
+            if c.res == 0 || c.texels.len() != c.res * c.res {
+                return Err(Error::input(format!(
+                    "term {k}: coefficient texture has {} texels for resolution {}",
+                    c.texels.len(),
+                    c.res
+                )));
+            }
+            if !c.texels.iter().all(|t| t.iter().all(|x| x.is_finite())) {
+                return Err(Error::input(format!("term {k}: a coefficient is not finite")));
+            }
+        }
     }
+    Ok(())
 }
 
-/// A [`Term`] on the GPU: its textures and the `#define`s of its program.
+/// A term on the GPU: its textures and the `#define`s of its program.
 pub(crate) struct GpuTerm {
     pub factors: Vec<(Texture2D, f32)>,
     pub coefficients: Option<Texture2D>,
@@ -160,7 +100,7 @@ pub(crate) struct GpuTerm {
     pub key: String,
 }
 
-/// A [`Shading`] uploaded as float textures (RGBA32F with alpha 1, linear filtering,
+/// A [`Material`] uploaded as float textures (RGBA32F with alpha 1, linear filtering,
 /// clamped). RGBA rather than RGB: llvmpipe filters RGB32F on a slower path (measured 1.8×
 /// against 1.4× the GGX shader's frame time for three 1D factors at 1024²).
 pub struct GpuShading {
@@ -168,14 +108,14 @@ pub struct GpuShading {
 }
 
 impl GpuShading {
-    /// Validates and uploads `shading`.
-    pub fn upload(gl: &Gl, shading: &Shading) -> Result<GpuShading> {
-        shading.validate()?;
-        if shading.terms.len() > 1 && !Limits::query(gl).float_blend {
+    /// Checks ([`check`]) and uploads `material`.
+    pub fn upload(gl: &Gl, material: &Material) -> Result<GpuShading> {
+        check(material)?;
+        if material.terms.len() > 1 && !Limits::query(gl).float_blend {
             return Err(Error::Gl("several terms need blending of float targets (EXT_float_blend missing)".into()));
         }
-        let mut terms = Vec::with_capacity(shading.terms.len());
-        for term in &shading.terms {
+        let mut terms = Vec::with_capacity(material.terms.len());
+        for term in &material.terms {
             let mut factors = Vec::new();
             let mut defines: Vec<(&'static str, String)> = vec![("NUM_FACTORS", term.factors.len().to_string())];
             for (j, f) in term.factors.iter().enumerate() {
@@ -183,22 +123,23 @@ impl GpuShading {
                 let (w, h) = if f.spec.dim() == 1 { (m, 1) } else { (m, m) };
                 let tex = Texture2D::new(gl, w, h, TexelFormat::Rgba32F, Filter::Linear, Some(&rgba(&f.texels)))?;
                 factors.push((tex, m as f32));
+                // Names of param.glsl's codes, which the preprocessor expands.
                 let input = match f.spec.input {
-                    Input::Light => 0,
-                    Input::Half => 1,
-                    Input::View => 2,
-                    Input::Uv => 3,
-                    Input::Custom(_) => unreachable!("rejected by validate"),
+                    Input::Light => "INPUT_LIGHT",
+                    Input::Half => "INPUT_HALF",
+                    Input::View => "INPUT_VIEW",
+                    Input::Uv => "INPUT_UV",
+                    Input::Custom(_) => unreachable!("rejected by check"),
                 };
                 let param = match f.spec.param {
-                    Param::Radius => 0,
-                    Param::Parabolic => 1,
-                    Param::Hemispherical => 2,
-                    Param::Uv => 3,
+                    Param::Radius => "PARAM_RADIUS",
+                    Param::Parabolic => "PARAM_PARABOLIC",
+                    Param::Hemispherical => "PARAM_HEMISPHERICAL",
+                    Param::Uv => "PARAM_UV",
                 };
                 let domain = match f.spec.domain {
-                    Domain::Hemisphere => 0,
-                    Domain::Sphere => 1,
+                    Domain::Hemisphere => "DOMAIN_HEMISPHERE",
+                    Domain::Sphere => "DOMAIN_SPHERE",
                 };
                 defines.push((FACTOR_DEFINES[j][0], input.to_string()));
                 defines.push((FACTOR_DEFINES[j][1], param.to_string()));
@@ -206,15 +147,15 @@ impl GpuShading {
                 defines.push((FACTOR_DEFINES[j][3], f.spec.dim().to_string()));
             }
             let (kind, a) = match term.map {
-                LogMap::Identity { .. } => (0, [0.0; 3]),
-                LogMap::Offset { a } => (1, a),
-                LogMap::Inverted { a } => (2, a),
+                LogMap::Identity { .. } => ("MAP_IDENTITY", [0.0; 3]),
+                LogMap::Offset { a } => ("MAP_OFFSET", a),
+                LogMap::Inverted { a } => ("MAP_INVERTED", a),
             };
             defines.push(("MAP_KIND", kind.to_string()));
             let coefficients = match &term.coefficients {
                 Some(c) => {
                     let data = rgba(&c.texels);
-                    Some(Texture2D::new(gl, c.width, c.height, TexelFormat::Rgba32F, Filter::Linear, Some(&data))?)
+                    Some(Texture2D::new(gl, c.res, c.res, TexelFormat::Rgba32F, Filter::Linear, Some(&data))?)
                 }
                 None => None,
             };
@@ -274,32 +215,36 @@ pub(crate) const COEF_UNIT: u32 = MAX_FACTORS as u32;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::factor::FactorSpec;
+    use crate::material::{Coefficients, Factor, Kind, Term};
 
     fn spec(input: Input, param: Param, res: usize) -> FactorSpec {
         FactorSpec { input, param, domain: Domain::Sphere, res, smooth: 0.0, damp: 0.0, ridge: 0.0 }
     }
 
-    fn term(factors: Vec<FactorTexture>) -> Term {
-        Term { factors, map: LogMap::Identity { floor: [1e-3; 3] }, coefficients: None }
+    fn uniform(factors: Vec<Factor>) -> Material {
+        Material::new(Kind::Uniform, vec![Term { factors, map: LogMap::Identity { floor: [1e-3; 3] }, coefficients: None }])
     }
 
     #[test]
-    fn validation_names_the_problem() {
-        let ok = FactorTexture { spec: spec(Input::Light, Param::Radius, 4), texels: vec![[1.0; 3]; 4] };
-        assert!(Shading::uniform(term(vec![ok.clone()])).validate().is_ok());
-        assert!(Shading { terms: vec![] }.validate().is_err());
-        let short = FactorTexture { texels: vec![[1.0; 3]; 3], ..ok.clone() };
-        let e = Shading::uniform(term(vec![short])).validate().unwrap_err().to_string();
+    fn check_names_the_problem() {
+        let ok = Factor { spec: spec(Input::Light, Param::Radius, 4), texels: vec![[1.0; 3]; 4] };
+        assert!(check(&uniform(vec![ok.clone()])).is_ok());
+        assert!(check(&Material::new(Kind::Uniform, vec![])).is_err());
+        let short = Factor { texels: vec![[1.0; 3]; 3], ..ok.clone() };
+        let e = check(&uniform(vec![short])).unwrap_err().to_string();
         assert!(e.contains("term 0, factor 0 (light)") && e.contains("4 expected"), "{e}");
-        let two_d = FactorTexture { spec: spec(Input::Half, Param::Parabolic, 4), texels: vec![[1.0; 3]; 4] };
-        assert!(Shading::uniform(term(vec![two_d])).validate().unwrap_err().to_string().contains("16 expected"));
-        let nan = FactorTexture { texels: vec![[f32::NAN, 0.0, 0.0]; 4], ..ok.clone() };
-        assert!(Shading::uniform(term(vec![nan])).validate().is_err());
-        let uv_bad = FactorTexture { spec: spec(Input::Uv, Param::Radius, 4), texels: vec![[1.0; 3]; 4] };
-        assert!(Shading::uniform(term(vec![uv_bad])).validate().is_err());
-        assert!(Shading::uniform(term(vec![ok.clone(); MAX_FACTORS + 1])).validate().is_err());
-        let mut t = term(vec![ok]);
-        t.coefficients = Some(CoefTexture::scalar(2, 2, &[1.0; 3]));
-        assert!(Shading::uniform(t).validate().is_err());
+        let two_d = Factor { spec: spec(Input::Half, Param::Parabolic, 4), texels: vec![[1.0; 3]; 4] };
+        assert!(check(&uniform(vec![two_d])).unwrap_err().to_string().contains("16 expected"));
+        let nan = Factor { texels: vec![[f32::NAN, 0.0, 0.0]; 4], ..ok.clone() };
+        assert!(check(&uniform(vec![nan])).is_err());
+        let uv_bad = Factor { spec: spec(Input::Uv, Param::Radius, 4), texels: vec![[1.0; 3]; 4] };
+        assert!(check(&uniform(vec![uv_bad])).is_err());
+        assert!(check(&uniform(vec![ok.clone(); MAX_FACTORS + 1])).is_err());
+        let mut m = uniform(vec![ok.clone()]);
+        m.terms[0].coefficients = Some(Coefficients::grey(2, &[1.0; 3]));
+        assert!(check(&m).unwrap_err().to_string().contains("term 0"));
+        m.terms = vec![uniform(vec![ok]).terms[0].clone(); MAX_TERMS + 1];
+        assert!(check(&m).is_err());
     }
 }

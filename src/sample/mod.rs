@@ -21,34 +21,31 @@
 //!
 //! Several views concatenate into one pattern ([`Samples::gather`], thesis 4.4). The
 //! pattern depends only on the geometry and the alpha mask, never on the colours, so a
-//! repainted view of the same scene reuses its prepared system ([`fit`], through
-//! [`crate::factor::cache`]).
+//! repainted view of the same scene reuses its prepared system ([`crate::pipeline::solve`],
+//! through [`crate::factor::cache`]).
 //!
 //! ```no_run
-//! use brdfpaint::sample::{fit, PaintedView, Samples, SceneSampler, Erosion};
+//! use brdfpaint::sample::{PaintedView, Samples, SceneSampler, Erosion};
 //! use brdfpaint::factor::{cache::Cache, Mapping, Settings};
+//! use brdfpaint::pipeline::solve;
 //! use std::path::Path;
 //!
 //! let mut sampler = SceneSampler::new()?;
 //! let (_scene, view) = sampler.load_view(Path::new("scene.gltf"), Path::new("painting.png"), Erosion::default())?;
 //! let samples = Samples::gather(&[view])?;
-//! let fitted = fit(&samples, &Settings::default(), Mapping::Auto, Cache::user().as_ref())?;
+//! let fitted = solve(&samples, &Settings::default(), Mapping::Auto, Cache::user().as_ref())?;
 //! println!("relative RMS on the samples: {}", fitted.fit.errors.rms_relative);
 //! # Ok::<(), brdfpaint::Error>(())
 //! ```
 
-pub mod fidelity;
 pub mod photo;
 pub mod report;
 pub mod scene;
 
-use std::time::Instant;
-
 use glam::DVec3;
 
 use crate::error::{Error, Result};
-use crate::factor::cache::{Cache, Outcome};
-use crate::factor::{Fit, Mapping, Pattern, Prepared, Query, Settings};
+use crate::factor::{Pattern, Query};
 use crate::images::Painting;
 use crate::material::map::Grid;
 
@@ -258,36 +255,6 @@ impl Samples {
         }
         grids
     }
-}
-
-/// The result of [`fit`].
-pub struct Fitted {
-    pub prepared: Prepared,
-    pub fit: Fit,
-    /// What the cache did (`Uncached` when no cache was given).
-    pub outcome: Outcome,
-    /// Seconds to prepare (or load from the cache) and to solve.
-    pub prepare_s: f64,
-    pub solve_s: f64,
-}
-
-/// Prepare (through `cache` when given: a standard scene is prepared once, ever) and
-/// solve. The prepared system depends only on `samples.pattern` and `settings`.
-pub fn fit(samples: &Samples, settings: &Settings, mapping: Mapping, cache: Option<&Cache>) -> Result<Fitted> {
-    settings.validate()?;
-    if samples.is_empty() {
-        return Err(Error::input("there are no samples to fit"));
-    }
-    let start = Instant::now();
-    let (prepared, outcome) = match cache {
-        Some(c) => c.prepare(&samples.pattern, settings)?,
-        None => (crate::factor::prepare(&samples.pattern, settings)?, Outcome::Uncached("no cache".into())),
-    };
-    let prepare_s = start.elapsed().as_secs_f64();
-    let start = Instant::now();
-    let fit = prepared.solve(&samples.values, mapping)?;
-    let solve_s = start.elapsed().as_secs_f64();
-    Ok(Fitted { prepared, fit, outcome, prepare_s, solve_s })
 }
 
 #[cfg(test)]

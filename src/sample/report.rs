@@ -13,6 +13,7 @@ use super::{PaintedView, Samples};
 use crate::error::Result;
 use crate::factor::{errors, Errors};
 use crate::images::Rgb;
+use crate::brdf::Reflectance;
 use crate::material::Material;
 
 /// Gain of the residual panel.
@@ -28,7 +29,7 @@ pub fn view_errors(samples: &Samples, views: &[PaintedView], material: &Material
             let (mut predicted, mut values) = (Vec::new(), Vec::new());
             for (s, &(view, _)) in samples.origin.iter().enumerate() {
                 if view == v {
-                    predicted.push(material.eval(&samples.pattern.queries[s]));
+                    predicted.push(material.shading(&samples.pattern.queries[s]));
                     values.push(samples.values[s]);
                 }
             }
@@ -60,7 +61,7 @@ pub fn image(views: &[PaintedView], material: &Material) -> Result<Rgb> {
                 let (fit, residual) = match g.pixels[k] {
                     None => ([0.0; 3], [0.0; 3]),
                     Some(px) => {
-                        let s = material.eval(&px.query);
+                        let s = material.shading(&px.query);
                         let fit = [0, 1, 2].map(|c| (s[c] * px.light[c]) as f32);
                         let residual = if g.usable[k] && p.painted(k) {
                             [0, 1, 2].map(|c| RESIDUAL_GAIN * (fit[c] - p.pixels[k][c]).abs())

@@ -100,9 +100,11 @@ pub fn write_gltf(scene: &Scene, path: impl AsRef<std::path::Path>) -> crate::Re
 mod load;
 mod mesh;
 pub mod preset;
+mod uv;
 mod write;
 
 pub use mesh::BoundingSphere;
+pub use uv::spherical_uvs;
 pub use preset::{
     builtin_model, builtin_models, frame, model_meshes, preset, preset_names, presets, sphere_mesh, Preset,
 };

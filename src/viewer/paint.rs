@@ -30,7 +30,6 @@ use glow::HasContext;
 
 use super::canvas::{Brush, Canvas, Painting};
 use super::sample::{self, Slot};
-use crate::render::Shading;
 use crate::error::{Error, Result};
 use crate::factor::{self, Errors, Fit, LogMap, Mapping, Pattern, Prepared, Settings};
 use crate::gl::{Framebuffer, HeadlessContext};
@@ -639,7 +638,7 @@ pub fn measure_stroke_to_frame(model: &str, size: usize, strokes: usize) -> Resu
         let refit = session.refit()?.ok_or_else(|| Error::Numeric("no refit".into()))?;
         let t2 = Instant::now();
         let material = session.material().expect("refit made one");
-        let shading = renderer.upload(&Shading::from_material(material)?)?;
+        let shading = renderer.upload(material)?;
         let t3 = Instant::now();
         target.bind();
         // SAFETY: plain state calls on the current context.

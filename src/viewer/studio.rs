@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 use crate::factor::{defaults, Domain, Input, Mapping, Settings};
 use crate::images::linear_to_srgb;
 use crate::material::Material;
-use crate::render::{GpuScene, GpuShading, Renderer, Shading};
+use crate::render::{GpuScene, GpuShading, Renderer};
 use crate::scene::{builtin_models, model_meshes, preset_names, BoundingSphere, CpuMesh, Scene};
 
 /// What the central area shows.
@@ -387,7 +387,7 @@ impl Studio {
         if self.shading_dirty {
             let t = Instant::now();
             self.shading = match self.current_material() {
-                Some(m) => match Shading::from_material(m).and_then(|s| renderer.upload(&s)) {
+                Some(m) => match renderer.upload(m) {
                     Ok(s) => Some(s),
                     Err(e) => {
                         self.error = Some(format!("cannot draw the material: {e}"));

@@ -3,7 +3,8 @@
 #![allow(dead_code)]
 
 use brdfpaint::factor::{system, table, Domain, FactorSpec, Input, Param, Query};
-use brdfpaint::render::{mesh::uv_sphere, CoefTexture, FactorTexture, GpuScene, Renderer, Shading};
+use brdfpaint::material::{Coefficients, Factor, Kind, Material, Term};
+use brdfpaint::render::{mesh::uv_sphere, GpuScene, Renderer};
 use brdfpaint::scene::{Camera, Light, Projection, Scene};
 use glam::{DVec3, Mat4, Vec3, Vec4};
 use rand::{Rng, SeedableRng};
@@ -80,14 +81,14 @@ pub fn spec(input: Input, param: Param, domain: Domain, res: usize) -> FactorSpe
 
 /// A table of independent random values in [0.3, 1.3] per node and channel: the hardest
 /// case for interpolation agreement.
-pub fn random_factor(spec: FactorSpec, seed: u64) -> FactorTexture {
+pub fn random_factor(spec: FactorSpec, seed: u64) -> Factor {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let texels = (0..spec.len()).map(|_| [0; 3].map(|_| rng.random_range(0.3f32..1.3))).collect();
-    FactorTexture { spec, texels }
+    Factor { spec, texels }
 }
 
 /// A smooth table, $0.7 + 0.3 \cos(2 t_x + c) \cos(1.5 t_y + c)$ per channel $c$.
-pub fn smooth_factor(spec: FactorSpec) -> FactorTexture {
+pub fn smooth_factor(spec: FactorSpec) -> Factor {
     let m = spec.res;
     let dim = spec.dim();
     let texels = (0..spec.len())
@@ -97,11 +98,21 @@ pub fn smooth_factor(spec: FactorSpec) -> FactorTexture {
             [0, 1, 2].map(|c| (0.7 + 0.3 * (2.0 * tx + c as f64).cos() * (1.5 * ty + c as f64).cos()) as f32)
         })
         .collect();
-    FactorTexture { spec, texels }
+    Factor { spec, texels }
+}
+
+/// A one-term material without coefficients.
+pub fn uniform(term: Term) -> Material {
+    Material::new(Kind::Uniform, vec![term])
+}
+
+/// A material map of `terms`.
+pub fn map_of(terms: Vec<Term>) -> Material {
+    Material::new(Kind::MaterialMap, terms)
 }
 
 /// Bilinear node-based lookup of a coefficient texture (independent of the renderer).
-pub fn coef_lookup(c: &CoefTexture, uv: [f64; 2]) -> [f64; 3] {
+pub fn coef_lookup(c: &Coefficients, uv: [f64; 2]) -> [f64; 3] {
     let axis = |t: f64, n: usize| -> (usize, usize, f64) {
         if n == 1 {
             return (0, 0, 0.0);
@@ -110,9 +121,9 @@ pub fn coef_lookup(c: &CoefTexture, uv: [f64; 2]) -> [f64; 3] {
         let i = (x.floor() as usize).min(n - 2);
         (i, i + 1, x - i as f64)
     };
-    let (x0, x1, fx) = axis(uv[0], c.width);
-    let (y0, y1, fy) = axis(uv[1], c.height);
-    let at = |x: usize, y: usize| c.texels[y * c.width + x].map(|v| v as f64);
+    let (x0, x1, fx) = axis(uv[0], c.res);
+    let (y0, y1, fy) = axis(uv[1], c.res);
+    let at = |x: usize, y: usize| c.texels[y * c.res + x].map(|v| v as f64);
     let (a, b, cc, d) = (at(x0, y0), at(x1, y0), at(x0, y1), at(x1, y1));
     [0, 1, 2]
         .map(|k| (1.0 - fx) * (1.0 - fy) * a[k] + fx * (1.0 - fy) * b[k] + (1.0 - fx) * fy * cc[k] + fx * fy * d[k])
@@ -121,7 +132,7 @@ pub fn coef_lookup(c: &CoefTexture, uv: [f64; 2]) -> [f64; 3] {
 /// $S(q)$ of a shading function on the CPU, in f64, through `brdfpaint::factor`: table
 /// coordinates from `system::coordinate`, linear/bilinear lookups from `table`, the
 /// mapping's `inverse`, the coefficient texture bilinearly.
-pub fn cpu_shading(shading: &Shading, q: &Query) -> [f64; 3] {
+pub fn cpu_shading(shading: &Material, q: &Query) -> [f64; 3] {
     let mut sum = [0.0; 3];
     for term in &shading.terms {
         let mut prod = [1.0f64; 3];
@@ -157,7 +168,7 @@ pub fn cpu_shading(shading: &Shading, q: &Query) -> [f64; 3] {
 pub fn compare_gl(
     r: &mut Renderer,
     scene: &Scene,
-    shading: &Shading,
+    shading: &Material,
     w: usize,
     h: usize,
     tol: f64,

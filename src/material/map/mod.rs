@@ -16,6 +16,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::{Coefficients, Factor, Kind, Material, Provenance, Term};
+use crate::brdf::Reflectance;
 use crate::error::{Error, Result};
 use crate::factor::{Errors, Input, LogMap, Mapping, Pattern, Prepared};
 
@@ -107,7 +108,7 @@ pub fn fit(
     };
     let hybrid = prepared.settings().factors.iter().any(|f| f.input == Input::Uv);
     let mut material = Material { kind: if hybrid { Kind::Hybrid } else { Kind::MaterialMap }, terms, provenance: Provenance::default() };
-    let predicted: Vec<[f64; 3]> = pattern.queries.par_iter().map(|q| material.eval(q)).collect();
+    let predicted: Vec<[f64; 3]> = pattern.queries.par_iter().map(|q| material.shading(q)).collect();
     let fitted = crate::factor::errors(&predicted, values);
     let seconds = start.elapsed().as_secs_f64();
     material.provenance = Provenance {

@@ -15,9 +15,13 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::brdf::{Analytic, SphereView, Striped};
-use crate::error::Result;
+use glow::HasContext;
+
+use super::median;
+use crate::brdf::{Analytic, Reflectance, SphereView, Striped};
+use crate::error::{Error, Result};
 use crate::factor::{prepare, LogMap, Pattern, Settings};
+use crate::render::{Ggx, GpuScene, GpuShading, Renderer};
 
 /// One measured case: the fields of DESIGN.md's `bench --json` that apply.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -65,8 +69,69 @@ pub fn median_time(min_runs: usize, budget_s: f64, mut f: impl FnMut()) -> f64 {
         f();
         times.push(t.elapsed().as_secs_f64());
     }
-    times.sort_by(f64::total_cmp);
-    times[times.len() / 2]
+    super::median(&times)
+}
+
+/// Frame times of the factored and the analytic shader on the same mesh and image size.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct FrameTimes {
+    /// Median milliseconds per factored frame (all terms), clear to `glFinish`.
+    pub factored_ms: f64,
+    /// Median milliseconds per analytic GGX frame.
+    pub analytic_ms: f64,
+    /// `factored_ms / analytic_ms`.
+    pub ratio: f64,
+    pub frames: usize,
+    pub width: usize,
+    pub height: usize,
+    pub triangles: usize,
+}
+
+/// Median frame times of `shading` (all its terms) and the analytic GGX shader and the analytic GGX shader, interleaved
+/// frame by frame, each frame a clear, the draw and `glFinish` (after `frames / 10 + 1`
+/// untimed warm-up frames of each).
+pub fn frame_times(
+    renderer: &mut Renderer,
+    scene: &GpuScene,
+    shading: &GpuShading,
+    model: &Ggx,
+    width: usize,
+    height: usize,
+    frames: usize,
+) -> Result<FrameTimes> {
+    if frames == 0 {
+        return Err(Error::input("frame timing needs at least one frame"));
+    }
+    let (mut factored, mut analytic) = (Vec::with_capacity(frames), Vec::with_capacity(frames));
+    let warm = frames / 10 + 1;
+    for k in 0..warm + frames {
+        let start = Instant::now();
+        renderer.begin(width, height)?;
+        renderer.draw_factored(scene, shading, width, height)?;
+        // SAFETY: waits for the GPU on the current context.
+        unsafe { renderer.gl().finish() };
+        let t_factored = start.elapsed().as_secs_f64() * 1e3;
+        let start = Instant::now();
+        renderer.begin(width, height)?;
+        renderer.draw_ggx(scene, model, width, height)?;
+        // SAFETY: as above.
+        unsafe { renderer.gl().finish() };
+        let t_analytic = start.elapsed().as_secs_f64() * 1e3;
+        if k >= warm {
+            factored.push(t_factored);
+            analytic.push(t_analytic);
+        }
+    }
+    let (f, a) = (median(&factored), median(&analytic));
+    Ok(FrameTimes {
+        factored_ms: f,
+        analytic_ms: a,
+        ratio: f / a,
+        frames,
+        width,
+        height,
+        triangles: scene.triangles(),
+    })
 }
 
 /// A sphere view with about `target` samples.
@@ -79,7 +144,7 @@ fn sphere_pattern(target: usize) -> Pattern {
 /// Time prepare and solve for one case.
 fn measure(name: String, pattern: &Pattern, settings: &Settings, res: usize, quick: bool) -> Result<Case> {
     let model = Analytic::suite()[2].clone();
-    let values = pattern.shade(|l, v| model.shading(l, v));
+    let values = pattern.shade(|q| model.shading(q));
     let mut prepared = None;
     let runs = if quick { 1 } else { 3 };
     let mut failure = None;
@@ -198,7 +263,7 @@ const GL_SIZES: [usize; 2] = [512, 1024];
 
 /// The GL cases: frame time of the factored shader against the analytic GGX shader, the
 /// same mesh (the bunny, front-left preset) and image size, measured side by side in one
-/// run by [`crate::render::Renderer::bench`] (frames interleaved, medians, `glFinish` per
+/// run by [`frame_times`] (frames interleaved, medians, `glFinish` per
 /// frame). The factored materials are real fits of the GGX model the analytic shader
 /// draws, painted on a sphere view: three 1D factors (M = 128) and three 2D factors
 /// (M = 32), the defaults. `time_s` is the factored frame, `ratio` factored / analytic;
@@ -207,7 +272,7 @@ const GL_SIZES: [usize; 2] = [512, 1024];
 pub fn gl_cases(quick: bool) -> Result<(Vec<Case>, String)> {
     use crate::factor::Mapping;
     use crate::gl::HeadlessContext;
-    use crate::render::{Ggx, GpuScene, Renderer, Shading, Term};
+    use crate::material::Material;
     use crate::scene::Scene;
 
     let ggx = Ggx::default();
@@ -217,7 +282,7 @@ pub fn gl_cases(quick: bool) -> Result<(Vec<Case>, String)> {
         roughness: ggx.roughness as f64,
     };
     let pattern = sphere_pattern(7884);
-    let values = pattern.shade(|l, v| model.shading(l, v));
+    let values = pattern.shade(|q| model.shading(q));
     let ctx = HeadlessContext::new()?;
     let mut renderer = Renderer::new(ctx.gl())?;
     let scene = GpuScene::upload(ctx.gl(), &Scene::from_preset("bunny", "front-left")?)?;
@@ -225,7 +290,7 @@ pub fn gl_cases(quick: bool) -> Result<(Vec<Case>, String)> {
     for (name, dim, res) in [("3x1D", 1, crate::factor::defaults::RES_1D), ("3x2D", 2, crate::factor::defaults::RES_2D)] {
         let settings = Settings::uniform(dim, res);
         let fit = prepare(&pattern, &settings)?.solve(&values, Mapping::Auto)?;
-        let shading = renderer.upload(&Shading::uniform(Term::from_fit(&settings, &fit)))?;
+        let shading = renderer.upload(&Material::from_fit(&settings, &fit, Default::default())?)?;
         for size in GL_SIZES {
             let frames = match (quick, size) {
                 (true, 512) => 6,
@@ -233,7 +298,7 @@ pub fn gl_cases(quick: bool) -> Result<(Vec<Case>, String)> {
                 (false, 512) => 60,
                 (false, _) => 30,
             };
-            let t = renderer.bench(&scene, &shading, &ggx, size, size, frames)?;
+            let t = frame_times(&mut renderer, &scene, &shading, &ggx, size, size, frames)?;
             out.push(Case {
                 case: format!("gl factored {name} M={res} vs GGX, bunny {size}x{size}"),
                 samples: Some(pattern.len()),
@@ -313,7 +378,7 @@ pub fn fidelity_cases() -> Result<Vec<Case>> {
     let object = Striped::wood();
     let (pattern, values, grids) = object.paint(&Striped::painted_views(90));
     let held = Striped::held_out_views(90);
-    let judge = |m: &Material| crate::brdf::relative_rms(&held, |q| object.shading(q), |q| m.eval(q));
+    let judge = |m: &Material| super::sphere_rms(&held, |q| object.shading(q), |q| m.shading(q));
     let prepared = prepare(&pattern, &Settings::default())?;
     let mut out = Vec::new();
     for method in [Method::Greedy, Method::Cluster] {
@@ -369,6 +434,7 @@ pub fn fidelity_table(cases: &[Case]) -> String {
 /// of the bunny, each followed by the viewer's own refit (painted colours → values → solve →
 /// material → texture upload → a frame drawn to `glFinish`). `time_s` is the median stroke →
 /// frame time; it must fit in one 60 Hz frame (16.7 ms).
+#[cfg(feature = "viewer")]
 pub fn live_paint_case(quick: bool) -> Result<Case> {
     let strokes = if quick { 10 } else { 60 };
     let t = crate::viewer::paint::measure_stroke_to_frame("bunny", 512, strokes)?;

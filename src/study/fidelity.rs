@@ -6,12 +6,14 @@
 //! that were not painted.
 //!
 //! `cargo run --release --example paint_fidelity` prints the table for the analytic suite.
+//! The judge is [`super::held_out_error`].
 
 use glam::Vec3;
 
-use super::scene::geometry_from_gbuffer;
-use super::{Erosion, Geometry, PaintedView, Samples, SceneSampler};
-use crate::brdf::Analytic;
+use super::held_out_error;
+use crate::brdf::{Analytic, Reflectance};
+use crate::sample::scene::geometry_from_gbuffer;
+use crate::sample::{Erosion, Geometry, PaintedView, Samples, SceneSampler};
 use crate::error::{Error, Result};
 use crate::factor::{Mapping, Settings};
 use crate::images::Painting;
@@ -97,7 +99,7 @@ pub fn paint(views: &[StudyView], model: &Analytic, format: PaintFormat) -> Resu
     let mut peak = 0.0f64;
     for g in &unit {
         for px in g.pixels.iter().flatten() {
-            let s = model.shading(px.query.l, px.query.v);
+            let s = model.shading(&px.query);
             for (&x, &l) in s.iter().zip(&px.light) {
                 peak = peak.max(x * l);
             }
@@ -115,7 +117,7 @@ pub fn paint(views: &[StudyView], model: &Analytic, format: PaintFormat) -> Resu
             .iter()
             .map(|p| match p {
                 Some(px) => {
-                    let s = model.shading(px.query.l, px.query.v);
+                    let s = model.shading(&px.query);
                     [0, 1, 2].map(|c| (s[c] * px.light[c]) as f32)
                 }
                 None => [0.0; 3],
@@ -130,24 +132,6 @@ pub fn paint(views: &[StudyView], model: &Analytic, format: PaintFormat) -> Resu
         out.push(PaintedView { name, source: "sphere".into(), geometry, painting });
     }
     Ok(out)
-}
-
-/// Relative RMS $\sqrt{\sum (m - t)^2 / \sum t^2}$ of `material` against `model`'s shading
-/// function over every usable pixel of the held-out views, all channels.
-pub fn held_out_error(material: &Material, model: &Analytic, held_out: &[StudyView]) -> Result<f64> {
-    let (mut num, mut den) = (0.0, 0.0);
-    for view in held_out {
-        let g = view.geometry(1.0)?;
-        for (px, _) in g.pixels.iter().zip(&g.usable).filter(|(_, &u)| u) {
-            let q = px.expect("usable pixels have geometry").query;
-            let (m, t) = (material.eval(&q), model.shading(q.l, q.v));
-            for c in 0..3 {
-                num += (m[c] - t[c]).powi(2);
-                den += t[c] * t[c];
-            }
-        }
-    }
-    Ok((num / den.max(f64::MIN_POSITIVE)).sqrt())
 }
 
 /// One row of the study.
@@ -183,18 +167,12 @@ pub fn measure(
         }
         let fit = p.solve(&samples.values, Mapping::Auto)?;
         let material = Material::from_fit(settings, &fit, Provenance::default())?;
-        rows.push(Row { model: model.name(), train: fit.errors.rms_relative, held_out: held_out_error(&material, model, held_out)? });
+        rows.push(Row { model: model.name(), train: fit.errors.rms_relative, held_out: held_out_error(&material, model, held_out, None)? });
     }
     Ok(rows)
 }
 
 /// The median of the rows' held-out errors.
-pub fn median(rows: &[Row]) -> f64 {
-    let mut e: Vec<f64> = rows.iter().map(|r| r.held_out).collect();
-    e.sort_by(f64::total_cmp);
-    match e.len() {
-        0 => f64::NAN,
-        n if n % 2 == 1 => e[n / 2],
-        n => 0.5 * (e[n / 2 - 1] + e[n / 2]),
-    }
+pub fn held_out_median(rows: &[Row]) -> f64 {
+    super::median(&rows.iter().map(|r| r.held_out).collect::<Vec<_>>())
 }

@@ -1,0 +1,221 @@
+//! The one path from paintings to a material (DESIGN.md, Data flow). `brdfpaint fit`, the
+//! demo and the viewer's refits all go through here; the command line only parses and
+//! prints.
+//!
+//! ```text
+//! scene + painting ──load_views──► PaintedView ─┐            (sample: G-buffer → l, v, uv per pixel)
+//! scene + painting ──load_views──► PaintedView ─┴─► Samples    (thesis 4.4: views concatenate)
+//! Samples.pattern + Settings ──solve──► Prepared (cache) + Fit (factor: thesis 3.2)
+//! Fit ──material──► Material (uniform, four-factor)
+//! Prepared + Samples + Grids ──material::map::fit──► Material (material map, hybrid: thesis 4.2)
+//! Material + views ──Fitted::report──► report.png; Fitted::save ──► MAT/
+//! ```
+//!
+//! The prepared system depends only on where the samples are and on the settings, never on
+//! the colours (thesis 3.2.2), so [`solve`] prepares through the cache and a repainted view
+//! of a known scene only solves.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::error::{Error, Result};
+use crate::factor::cache::{Cache, Outcome};
+use crate::factor::{defaults, Errors, Fit, Mapping, Prepared, Settings};
+use crate::images::Rgb;
+use crate::material::map::{self, MapOptions, MapReport};
+use crate::material::{Kind, Material, Provenance};
+use crate::sample::{check_same_model, report, Erosion, PaintedView, Samples, SceneSampler};
+
+/// What to fit: the material's kind, its factor tables, the log mapping, and for material
+/// maps and hybrids how their terms are found.
+#[derive(Clone, Debug)]
+pub struct Options {
+    pub kind: Kind,
+    /// The factors of one product, the uv factor included for four-factor and hybrid kinds.
+    pub settings: Settings,
+    pub mapping: Mapping,
+    /// Terms, coefficient resolution and method of a material map or hybrid.
+    pub map: MapOptions,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options { kind: Kind::Uniform, settings: Settings::default(), mapping: Mapping::Auto, map: MapOptions::default() }
+    }
+}
+
+impl Options {
+    /// Options of the given kind from the common knobs: `dim` (1 or 2) sets the tables of
+    /// p(l), q(h), r(v) ([`settings`]); `uv_res` is the uv factor's resolution (four-factor,
+    /// hybrid) or the coefficient textures' (material map).
+    pub fn new(kind: Kind, dim: usize, res: Option<usize>, lambda: Option<f64>, uv_res: Option<usize>) -> Result<Options> {
+        let mut settings = settings(dim, res, lambda)?;
+        if matches!(kind, Kind::FourFactor | Kind::Hybrid) {
+            let four = Settings::four_factor(1, 2, uv_res.unwrap_or(defaults::RES_UV));
+            let mut uv = four.factors[3].clone();
+            if kind == Kind::Hybrid {
+                uv.smooth = defaults::SMOOTH_UV_HYBRID;
+            }
+            settings.factors.push(uv);
+            settings.validate()?;
+        }
+        let mut map = MapOptions::default();
+        if kind == Kind::MaterialMap {
+            map.coef_res = uv_res.unwrap_or(map.coef_res);
+        }
+        Ok(Options { kind, settings, mapping: Mapping::Auto, map })
+    }
+}
+
+/// The settings of p(l) q(h) r(v) with `dim`-dimensional tables of `res` nodes per axis
+/// (default 128 for 1D, 32 for 2D) and Laplacian weight `lambda` on every factor (default:
+/// each factor's own, README "Defaults"). The one rule for the command line and the viewer.
+pub fn settings(dim: usize, res: Option<usize>, lambda: Option<f64>) -> Result<Settings> {
+    if !(1..=2).contains(&dim) {
+        return Err(Error::input(format!("factor tables are 1D or 2D, not {dim}D")));
+    }
+    let default_res = if dim == 1 { defaults::RES_1D } else { defaults::RES_2D };
+    let mut s = Settings::uniform(dim, res.unwrap_or(default_res));
+    if let Some(l) = lambda {
+        for f in &mut s.factors {
+            f.smooth = l;
+        }
+    }
+    s.validate()?;
+    Ok(s)
+}
+
+/// Where a material came from: this tool, its inputs, its errors and timings.
+pub fn provenance(sources: Vec<String>, errors: Option<Errors>, samples: usize, prepare_s: f64, solve_s: f64) -> Provenance {
+    Provenance { tool: format!("brdfpaint {}", env!("CARGO_PKG_VERSION")), sources, errors, samples, prepare_s, solve_s }
+}
+
+/// The inputs of `views` as provenance lists them: each view's scene, then its painting.
+pub fn sources(views: &[PaintedView]) -> Vec<String> {
+    views.iter().flat_map(|v| [v.source.clone(), v.name.clone()]).collect()
+}
+
+/// Loads each (scene, painting) pair as a view and checks they paint one model (thesis
+/// 4.4). Errors name the file.
+pub fn load_views(sampler: &mut SceneSampler, pairs: &[(PathBuf, PathBuf)], erosion: Erosion) -> Result<Vec<PaintedView>> {
+    let mut views = Vec::new();
+    let mut first = None;
+    for (scene_path, image_path) in pairs {
+        let (scene, view) = sampler.load_view(scene_path, image_path, erosion)?;
+        match &first {
+            None => first = Some((scene, scene_path.display().to_string())),
+            Some((f, name)) => check_same_model(f, name, &scene, &scene_path.display().to_string())?,
+        }
+        views.push(view);
+    }
+    Ok(views)
+}
+
+/// A prepared system and one solve on it.
+pub struct Solved {
+    pub prepared: Prepared,
+    pub fit: Fit,
+    /// What the cache did (`Uncached` when no cache was given).
+    pub outcome: Outcome,
+    /// Seconds to prepare (or load from the cache) and to solve.
+    pub prepare_s: f64,
+    pub solve_s: f64,
+}
+
+/// Prepare (through `cache` when given: a standard scene is prepared once, ever) and solve
+/// one product. The prepared system depends only on `samples.pattern` and `settings`.
+pub fn solve(samples: &Samples, settings: &Settings, mapping: Mapping, cache: Option<&Cache>) -> Result<Solved> {
+    settings.validate()?;
+    if samples.is_empty() {
+        return Err(Error::input("there are no samples to fit"));
+    }
+    let start = Instant::now();
+    let (prepared, outcome) = match cache {
+        Some(c) => c.prepare(&samples.pattern, settings)?,
+        None => (crate::factor::prepare(&samples.pattern, settings)?, Outcome::Uncached("no cache".into())),
+    };
+    let prepare_s = start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    let fit = prepared.solve(&samples.values, mapping)?;
+    let solve_s = start.elapsed().as_secs_f64();
+    Ok(Solved { prepared, fit, outcome, prepare_s, solve_s })
+}
+
+/// A fitted material and everything a caller reports about it.
+pub struct Fitted {
+    pub material: Material,
+    pub samples: Samples,
+    /// The uniform product's system and solve (a material map's terms are fitted on it).
+    pub solved: Solved,
+    /// For a material map or hybrid: how its terms were found, and the one-product material
+    /// of the same samples, for comparison.
+    pub map: Option<(MapReport, Material)>,
+}
+
+impl Fitted {
+    /// The material's errors on the samples (a material map's own, not its first product's).
+    pub fn errors(&self) -> Errors {
+        self.material.provenance.errors.unwrap_or(self.solved.fit.errors)
+    }
+
+    /// Seconds the material's solve took (a material map's whole term fit).
+    pub fn solve_s(&self) -> f64 {
+        self.map.as_ref().map_or(self.solved.solve_s, |(r, _)| r.seconds)
+    }
+
+    /// Errors of the material against each view's samples.
+    pub fn view_errors(&self, views: &[PaintedView]) -> Vec<Errors> {
+        report::view_errors(&self.samples, views, &self.material)
+    }
+
+    /// The report image: per view, painting | fit | residual.
+    pub fn report(&self, views: &[PaintedView]) -> Result<Rgb> {
+        report::image(views, &self.material)
+    }
+
+    /// Writes the material and its `report.png` into `out`.
+    pub fn save(&self, views: &[PaintedView], out: &Path) -> Result<PathBuf> {
+        let image = self.report(views)?;
+        save_material(&self.material, out)?;
+        let report_path = out.join("report.png");
+        image.write_png(&report_path)?;
+        Ok(report_path)
+    }
+}
+
+/// Saves a material, naming `out` in errors that do not name a file themselves.
+pub fn save_material(material: &Material, out: &Path) -> Result<()> {
+    material.save(out).map_err(|e| match e {
+        Error::Io { .. } | Error::Format { .. } => e,
+        other => Error::input(format!("{}: {other}", out.display())),
+    })
+}
+
+/// Fits a material of `opts.kind` to the paintings of `views` (thesis 4.1-4.4), preparing
+/// through `cache`. A spatially varying kind needs a mesh with texture coordinates.
+pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Result<Fitted> {
+    let samples = Samples::gather(views)?;
+    if opts.kind != Kind::Uniform && !samples.pattern.has_uv {
+        let scene = views.first().map_or("the scene", |v| v.source.as_str());
+        return Err(Error::input(format!(
+            "{scene}: the model has no texture coordinates, which --kind {} needs (a uv table or coefficient textures)",
+            opts.kind.name()
+        )));
+    }
+    let solved = solve(&samples, &opts.settings, opts.mapping, cache)?;
+    let provenance = provenance(sources(views), Some(solved.fit.errors), samples.len(), solved.prepare_s, solved.solve_s);
+    let uniform = Material::from_fit(&opts.settings, &solved.fit, provenance.clone())?;
+    let (material, map) = match opts.kind {
+        Kind::Uniform | Kind::FourFactor => (uniform, None),
+        Kind::MaterialMap | Kind::Hybrid => {
+            // The terms are fitted on the system prepared (and cached) for the uniform fit,
+            // with the painted pixel grids filling texture gaps.
+            let grids = samples.grids(views);
+            let map_opts = MapOptions { mapping: opts.mapping, ..opts.map };
+            let (mut m, report) = map::fit(&solved.prepared, &samples.pattern, &samples.values, &grids, &map_opts)?;
+            m.provenance = Provenance { errors: Some(report.fitted), solve_s: report.seconds, ..provenance };
+            (m, Some((report, uniform)))
+        }
+    };
+    Ok(Fitted { material, samples, solved, map })
+}
