@@ -20,7 +20,7 @@
 //!
 //! ```
 //! use brdfpaint::factor::{prepare, Pattern, Settings, Mapping};
-//! use brdfpaint::brdf::{Analytic, SphereView};
+//! use brdfpaint::brdf::{Analytic, Reflectance, SphereView};
 //!
 //! // One painted view of a sphere, lit from the upper left.
 //! let view = SphereView::new(glam::DVec3::new(-0.5, 0.5, 1.0), 48);

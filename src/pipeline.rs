@@ -47,7 +47,7 @@ impl Default for Options {
 impl Options {
     /// Options of the given kind from the common knobs: `dim` (1 or 2) sets the tables of
     /// p(l), q(h), r(v) ([`settings`]); `uv_res` is the uv factor's resolution (four-factor,
-    /// hybrid) or the coefficient textures' (material map).
+    /// hybrid) and the coefficient textures' (material map, hybrid).
     pub fn new(kind: Kind, dim: usize, res: Option<usize>, lambda: Option<f64>, uv_res: Option<usize>) -> Result<Options> {
         let mut settings = settings(dim, res, lambda)?;
         if matches!(kind, Kind::FourFactor | Kind::Hybrid) {
@@ -60,7 +60,8 @@ impl Options {
             settings.validate()?;
         }
         let mut map = MapOptions::default();
-        if kind == Kind::MaterialMap {
+        // A hybrid's uv resolution is that of its uv factors and its coefficient textures.
+        if matches!(kind, Kind::MaterialMap | Kind::Hybrid) {
             map.coef_res = uv_res.unwrap_or(map.coef_res);
         }
         Ok(Options { kind, settings, mapping: Mapping::Auto, map })
@@ -87,7 +88,7 @@ pub fn settings(dim: usize, res: Option<usize>, lambda: Option<f64>) -> Result<S
 
 /// Where a material came from: this tool, its inputs, its errors and timings.
 pub fn provenance(sources: Vec<String>, errors: Option<Errors>, samples: usize, prepare_s: f64, solve_s: f64) -> Provenance {
-    Provenance { tool: format!("brdfpaint {}", env!("CARGO_PKG_VERSION")), sources, errors, samples, prepare_s, solve_s }
+    Provenance { tool: crate::material::TOOL.to_string(), sources, errors, samples, prepare_s, solve_s }
 }
 
 /// The inputs of `views` as provenance lists them: each view's scene, then its painting.

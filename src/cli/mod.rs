@@ -63,6 +63,22 @@ enum Command {
     },
 }
 
+/// `WxH` (or `WXH`) with both sides in `range`: the one size rule of `--size` and
+/// `--window`. Errors name the flag.
+pub(crate) fn parse_size(flag: &str, text: &str, range: std::ops::RangeInclusive<usize>) -> brdfpaint::Result<(usize, usize)> {
+    let bad = || Error::input(format!("{flag} {text}: expected WxH, e.g. 512x512"));
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (usize, usize) = (w.trim().parse().map_err(|_| bad())?, h.trim().parse().map_err(|_| bad())?);
+    if !range.contains(&w) || !range.contains(&h) {
+        return Err(Error::input(format!(
+            "{flag} {text}: width and height must be {} to {} pixels",
+            range.start(),
+            range.end()
+        )));
+    }
+    Ok((w, h))
+}
+
 /// Run the command line; the process's exit code.
 pub fn run() -> ExitCode {
     let cli = match Cli::try_parse() {

@@ -92,13 +92,7 @@ impl SceneArgs {
 
 /// `WxH` with both sides in 1..=[`MAX_SIDE`].
 pub(super) fn parse_size(text: &str) -> Result<(usize, usize)> {
-    let bad = || Error::input(format!("--size {text}: expected WxH, e.g. 512x512"));
-    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
-    let (w, h): (usize, usize) = (w.trim().parse().map_err(|_| bad())?, h.trim().parse().map_err(|_| bad())?);
-    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
-        return Err(Error::input(format!("--size {text}: width and height must be 1 to {MAX_SIDE} pixels")));
-    }
-    Ok((w, h))
+    super::parse_size("--size", text, 1..=MAX_SIDE)
 }
 
 /// The renderer's pixel budget ([`Limits::MAX_PIXELS`]).

@@ -50,19 +50,10 @@ pub(super) struct ViewArgs {
     hold: f64,
 }
 
-fn parse_size(s: &str) -> Result<[u32; 2]> {
-    let bad = || Error::input(format!("window size '{s}' is not WxH (e.g. 1280x800)"));
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
-    let (w, h): (u32, u32) = (w.trim().parse().map_err(|_| bad())?, h.trim().parse().map_err(|_| bad())?);
-    if !(64..=16384).contains(&w) || !(64..=16384).contains(&h) {
-        return Err(Error::input(format!("window size {w}x{h} is outside 64..=16384 per side")));
-    }
-    Ok([w, h])
-}
-
 pub(super) fn run(args: ViewArgs) -> Result<()> {
     // Everything that can fail on input is checked before a window opens.
-    let window = parse_size(&args.window)?;
+    let (w, h) = super::parse_size("--window", &args.window, 64..=16384)?;
+    let window = [w as u32, h as u32];
     brdfpaint::images::check_size(args.size, args.size)?;
     if !(16..=4096).contains(&args.size) {
         return Err(Error::input(format!("painting size {} is outside 16..=4096", args.size)));

@@ -37,7 +37,7 @@ pub struct View {
 
 /// The painted views: the standard front-left sheet, and a second view for thesis 4.4
 /// (camera 60° to the left and 15° below, light from below the camera): the pair of the
-/// fidelity study ([`crate::sample::fidelity::painted_presets`]) that halves the gold
+/// fidelity study ([`crate::study::fidelity::painted_presets`]) that halves the gold
 /// paint's held-out error.
 pub fn views() -> [View; 2] {
     [

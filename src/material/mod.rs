@@ -73,6 +73,9 @@ pub struct Term {
     pub coefficients: Option<Coefficients>,
 }
 
+/// What [`Provenance::tool`] says: this tool and its version.
+pub const TOOL: &str = concat!("brdfpaint ", env!("CARGO_PKG_VERSION"));
+
 /// Where a material came from: stored in material.json, not needed to render it.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Provenance {

@@ -1,7 +1,7 @@
 //! The fit report: per view, the painting, the fitted material at the same pixels, and the
 //! residual, side by side (`report.png` beside a fitted material).
 //!
-//! The fit panel is the CPU evaluation of the material ([`Material::eval`], the reference
+//! The fit panel is the CPU evaluation of the material (its [`Reflectance::shading`](crate::brdf::Reflectance), the reference
 //! the GL factored pass is tested against) at each pixel's G-buffer query, times the
 //! light that reaches the pixel: what the scene shows with the material applied. The
 //! residual panel shows $4\,|\text{fit} - \text{painting}|$ per channel at the samples;

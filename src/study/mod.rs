@@ -5,7 +5,7 @@
 //! - [`median`]: the middle value, the mean of the middle two for an even count;
 //! - [`held_out_error`]: a material against the truth at the G-buffer queries of held-out
 //!   views ([`fidelity`] paints and judges the analytic suite through the real path);
-//! - [`bench`]: `brdfpaint bench`, the thesis's tables and the shader frame times.
+//! - [`bench`](mod@bench): `brdfpaint bench`, the thesis's tables and the shader frame times.
 
 pub mod bench;
 pub mod fidelity;

@@ -112,7 +112,7 @@ pub fn fit(
     let fitted = crate::factor::errors(&predicted, values);
     let seconds = start.elapsed().as_secs_f64();
     material.provenance = Provenance {
-        tool: format!("brdfpaint {}", env!("CARGO_PKG_VERSION")),
+        tool: super::TOOL.to_string(),
         errors: Some(fitted),
         samples: values.len(),
         prepare_s: prepared.prepare_s,
