@@ -38,6 +38,7 @@ pub mod error;
 pub mod factor;
 pub mod gl;
 pub mod images;
+pub mod litsphere;
 pub mod material;
 pub mod pipeline;
 pub mod render;

@@ -11,6 +11,7 @@ use brdfpaint::brdf::Merl;
 use brdfpaint::error::{Error, Result};
 use brdfpaint::factor::cache::{Cache, Outcome};
 use brdfpaint::factor::{prepare, Fit, Mapping, Pattern, Settings};
+use brdfpaint::litsphere;
 use brdfpaint::material::{map, Kind, Material};
 use brdfpaint::pipeline::{self, Options};
 use brdfpaint::sample::{Erosion, Neighbours, SceneSampler};
@@ -40,7 +41,7 @@ pub(super) enum MapFitArg {
 }
 
 #[derive(clap::Args)]
-#[command(group = clap::ArgGroup::new("source").required(true).multiple(true).args(["merl", "scene"]))]
+#[command(group = clap::ArgGroup::new("source").required(true).multiple(true).args(["merl", "scene", "lit_sphere"]))]
 pub(super) struct FitArgs {
     /// A scene (glTF: meshes, camera, light) a painting was made in; repeat with --image
     /// for several views (paired in order).
@@ -51,8 +52,17 @@ pub(super) struct FitArgs {
     #[arg(long, value_name = "P.png", requires = "scene")]
     image: Vec<PathBuf>,
     /// A measured BRDF in the MERL binary format.
-    #[arg(long, value_name = "F.binary")]
+    #[arg(long, value_name = "F.binary", conflicts_with = "lit_sphere")]
     merl: Option<PathBuf>,
+    /// A picture of a painted or photographed sphere, or a MatCap (PNG, JPEG, EXR; the disk
+    /// anywhere, on a transparent or plain background): its scene is built, and written as
+    /// MAT/scene.gltf.
+    #[arg(long, value_name = "IMAGE", conflicts_with = "scene")]
+    lit_sphere: Option<PathBuf>,
+    /// With --lit-sphere: the direction towards the light, X,Y,Z in the picture's frame (x
+    /// right, y up, z towards the viewer); estimated from the shading when not given.
+    #[arg(long, value_name = "X,Y,Z", requires = "lit_sphere", value_parser = parse_direction, allow_hyphen_values = true)]
+    light: Option<glam::DVec3>,
     /// Output material directory (with report.png for paintings).
     #[arg(long, value_name = "MAT")]
     out: PathBuf,
@@ -116,8 +126,10 @@ impl KindArg {
 
 /// Checks the flags against each other and builds the pipeline's options.
 fn options(args: &FitArgs) -> Result<Options> {
-    if args.kind != KindArg::Uniform && args.merl.is_some() {
-        return Err(Error::input("--kind other than uniform needs paintings of a mesh with texture coordinates, not --merl"));
+    if args.kind != KindArg::Uniform && (args.merl.is_some() || args.lit_sphere.is_some()) {
+        return Err(Error::input(
+            "--kind other than uniform needs paintings of a mesh with texture coordinates, not --merl or --lit-sphere",
+        ));
     }
     if args.uv_res.is_some() && args.kind == KindArg::Uniform {
         return Err(Error::input("--uv-res applies to the four-factor, material-map and hybrid kinds"));
@@ -146,9 +158,10 @@ fn options(args: &FitArgs) -> Result<Options> {
 
 pub(super) fn run(args: FitArgs) -> std::result::Result<(), Failure> {
     let opts = options(&args)?;
-    match &args.merl {
-        Some(merl) => Ok(run_merl(merl, &args, &opts.settings)?),
-        None => {
+    match (&args.merl, &args.lit_sphere) {
+        (Some(merl), _) => Ok(run_merl(merl, &args, &opts.settings)?),
+        (None, Some(image)) => Ok(run_lit_sphere(image, &args, &opts)?),
+        (None, None) => {
             if args.scene.len() != args.image.len() {
                 return Err(Failure::Usage(format!(
                     "{} --scene and {} --image: give one --image after each --scene",
@@ -183,6 +196,66 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
     );
     print_mappings(&fit);
     println!("kept {}; wrote {}", fit.map.name(), args.out.display());
+    Ok(())
+}
+
+/// `X,Y,Z`: a direction (normalized later; zero is refused there).
+fn parse_direction(text: &str) -> std::result::Result<glam::DVec3, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let v: Vec<f64> = parts.iter().filter_map(|p| p.parse().ok()).collect();
+    match v[..] {
+        [x, y, z] if parts.len() == 3 && v.iter().all(|c| c.is_finite()) && (x, y, z) != (0.0, 0.0, 0.0) => {
+            Ok(glam::DVec3::new(x, y, z))
+        }
+        _ => Err(format!("'{text}' is not a direction X,Y,Z (e.g. -0.5,0.5,1)")),
+    }
+}
+
+/// A lit sphere or MatCap: find the disk, estimate the light (or take --light), fit, and
+/// write the material with its report and the scene it was fitted in.
+fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
+    let light = args.light;
+    let lit = litsphere::fit(image, light, opts, Cache::user().as_ref())?;
+    let d = &lit.disk;
+    println!(
+        "{}: sphere at ({:.1}, {:.1}), radius {:.1} px of {}x{}",
+        image.display(),
+        d.cx,
+        d.cy,
+        d.r,
+        lit.view.painting.width,
+        lit.view.painting.height
+    );
+    let l = lit.light;
+    match &lit.estimate {
+        Some(e) => println!(
+            "light estimated at ({:.2}, {:.2}, {:.2}) (x right, y up, z to the viewer), sure to within {:.0} degrees; {:.0}% of the disk follows one light (the rest: highlights, strokes, rim light). Correct it with --light X,Y,Z",
+            l.x,
+            l.y,
+            l.z,
+            e.spread_deg,
+            100.0 * e.inliers
+        ),
+        None => println!("light ({:.2}, {:.2}, {:.2}) as given", l.x, l.y, l.z),
+    }
+    let fitted = &lit.fitted;
+    let views = std::slice::from_ref(&lit.view);
+    let report_path = fitted.save(views, &args.out)?;
+    let scene_path = args.out.join("scene.gltf");
+    lit.scene.write_gltf(&scene_path)?;
+    let e = fitted.errors();
+    print_mappings(&fitted.solved.fit);
+    println!(
+        "{} samples; kept {}: RMS {:.5}  relative {:.4}  max {:.4}; wrote {}, {} and {}",
+        fitted.samples.len(),
+        fitted.solved.fit.map.name(),
+        e.rms,
+        e.rms_relative,
+        e.max,
+        args.out.display(),
+        report_path.display(),
+        scene_path.display()
+    );
     Ok(())
 }
 

@@ -1,0 +1,567 @@
+//! Lit spheres and MatCaps: a picture of a painted or photographed sphere becomes a view of
+//! a known scene, so the one fit path ([`crate::pipeline`]) turns it into a material.
+//!
+//! ```text
+//! image ──find_disk──► Disk (centre, radius: a circle fitted to alpha or a background key)
+//! image + Disk ──estimate_light──► the key light (unless the user gives it)
+//! Disk + light ──scene──► an orthographic view of the unit sphere that frames the disk exactly
+//! scene + image ──pipeline::fit──► Material;  MAT/scene.gltf keeps the scene
+//! ```
+//!
+//! **The light.** A painter's highlight sits higher than mirror geometry puts it, and a
+//! MatCap's brightest pixels are often its rim light, so the light is not taken from the
+//! brightest point. It is the direction that best explains the shading of the whole disk
+//! under a physical prior: the luminance is modelled as
+//!
+//! $$ Y(n) \approx a + b \max(n \cdot l, 0) + c \min(n \cdot l, 0), \qquad b \ge 0,\ c \ge 0, $$
+//!
+//! a lit side brighter towards the light (Lambert with ambient: $c = 0$) and, for warm-to-cool
+//! paintings, an unlit side that still brightens towards the terminator ($c > 0$, Gooch).
+//! For every candidate $l$ the model is linear in $(a, b, c)$, so each candidate costs one
+//! 3×3 solve; candidates cover the front of the sphere ($l_z \ge 0.15$: a light behind the
+//! sphere cannot be told from a rim light in one picture — give `--light` for one). Pixels the
+//! model cannot explain (highlights, strokes) are left out by a robust reweighting (residuals
+//! beyond 2.5 MAD), and the spread of the near-optimal directions says how sure it is.
+
+use std::path::Path;
+
+use glam::{DMat3, DVec3, Mat4, Vec3};
+
+use crate::error::{Error, Result};
+use crate::factor::cache::Cache;
+use crate::images::Painting;
+use crate::pipeline::{self, Fitted, Options};
+use crate::scene::{sphere_mesh, Camera, Light, Projection, Scene};
+use crate::sample::{Erosion, PaintedView, SceneSampler};
+
+/// Longest side a lit-sphere picture is fitted at: larger pictures are box-filtered down
+/// (a 512² disk holds about 200k samples; more add time, not information).
+pub const MAX_SIDE: usize = 512;
+
+/// The sphere's outline in the picture, pixels (x right, y down, pixel centres at +0.5).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Disk {
+    pub cx: f64,
+    pub cy: f64,
+    pub r: f64,
+}
+
+impl Disk {
+    /// The unit normal at pixel (i, j) in the view frame (x right, y up, z to the viewer),
+    /// or `None` outside `fraction` of the radius.
+    pub fn normal(&self, i: usize, j: usize, fraction: f64) -> Option<DVec3> {
+        let x = (i as f64 + 0.5 - self.cx) / self.r;
+        let y = -(j as f64 + 0.5 - self.cy) / self.r;
+        let d2 = x * x + y * y;
+        (d2 < fraction * fraction).then(|| DVec3::new(x, y, (1.0 - d2).max(0.0).sqrt()))
+    }
+}
+
+/// The estimated key light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightEstimate {
+    /// Unit direction towards the light, view frame (x right, y up, z to the viewer).
+    pub direction: DVec3,
+    /// Angle within which other directions explain the shading almost as well (their cost
+    /// within 10% of the best), degrees: small means sure.
+    pub spread_deg: f64,
+    /// Fraction of the disk's pixels the shading model explains (the rest: highlights,
+    /// strokes, rim lights).
+    pub inliers: f64,
+}
+
+/// Where the sphere is: a circle fitted to the alpha channel when the picture has one, or
+/// else to the pixels that differ from the background colour (the median of the picture's
+/// border, split from the sphere by Otsu's threshold). Errors, one line each: the picture is
+/// all background, no round shape, two shapes.
+pub fn find_disk(p: &Painting, name: &str) -> Result<Disk> {
+    let (w, h) = (p.width, p.height);
+    let has_alpha = p.alpha.iter().any(|&a| a < 0.5) && p.alpha.iter().any(|&a| a >= 0.5);
+    let mask: Vec<bool> = if has_alpha {
+        p.alpha.iter().map(|&a| a >= 0.5).collect()
+    } else {
+        let key = border_median(p);
+        let distance: Vec<f32> = p.pixels.iter().map(|c| perceptual_distance(c, &key)).collect();
+        let max = distance.iter().cloned().fold(0.0f32, f32::max);
+        if max < 0.02 {
+            return Err(Error::input(format!("{name} is all background: no sphere to find")));
+        }
+        let t = otsu(&distance, max);
+        distance.iter().map(|&d| d > t).collect()
+    };
+    let components = components(&mask, w, h);
+    let Some(&(largest, area)) = components.iter().max_by_key(|c| c.1) else {
+        return Err(Error::input(format!("{name} is all background: no sphere to find")));
+    };
+    if area < (w * h / 400).max(64) {
+        return Err(Error::input(format!("{name}: no disk found (the largest shape is {area} pixels)")));
+    }
+    if let Some(&(_, other)) = components.iter().filter(|c| c.0 != largest).max_by_key(|c| c.1) {
+        if other * 5 > area {
+            return Err(Error::input(format!(
+                "{name}: two shapes ({area} and {other} pixels): give a picture of one sphere"
+            )));
+        }
+    }
+    let labels = label(&mask, w, h);
+    let inside = |i: isize, j: isize| i >= 0 && j >= 0 && (i as usize) < w && (j as usize) < h && labels[j as usize * w + i as usize] == largest;
+    let mut edge = Vec::new();
+    for j in 0..h as isize {
+        for i in 0..w as isize {
+            if inside(i, j) && !(inside(i - 1, j) && inside(i + 1, j) && inside(i, j - 1) && inside(i, j + 1)) {
+                // The boundary lies half a pixel out from the last inside pixel centre.
+                edge.push(glam::DVec2::new(i as f64 + 0.5, j as f64 + 0.5));
+            }
+        }
+    }
+    // The picture's edge is not the sphere's: a disk cropped by the frame keeps only its
+    // own boundary.
+    let own: Vec<_> = edge.iter().copied().filter(|e| e.x > 1.0 && e.y > 1.0 && e.x < w as f64 - 1.0 && e.y < h as f64 - 1.0).collect();
+    let disk = fit_envelope(if own.len() >= 8 { &own } else { &edge })
+        .ok_or_else(|| Error::input(format!("{name}: no disk found (the shape's outline is not a circle)")))?;
+    // Round: the shape fills its circle.
+    let circle_area = std::f64::consts::PI * disk.r * disk.r;
+    if !(0.8..=1.1).contains(&(area as f64 / circle_area)) || disk.r < 4.0 {
+        return Err(Error::input(format!(
+            "{name}: no disk found (the shape is not round: it fills {:.0}% of its circle)",
+            100.0 * area as f64 / circle_area
+        )));
+    }
+    Ok(disk)
+}
+
+/// The circle through the outer envelope of boundary points: an algebraic (Kåsa) fit,
+/// repeated without points well inside it, so a rim as dark as the background (which eats
+/// into the shape) does not shrink the circle.
+fn fit_envelope(points: &[glam::DVec2]) -> Option<Disk> {
+    let mut keep: Vec<glam::DVec2> = points.to_vec();
+    let mut disk = None;
+    for _ in 0..6 {
+        let d = kasa(&keep)?;
+        let tolerance = (0.01 * d.r).max(1.0);
+        let next: Vec<_> = points.iter().copied().filter(|p| (p.distance(glam::DVec2::new(d.cx, d.cy)) - d.r) > -tolerance).collect();
+        disk = Some(d);
+        if next.len() < 8 || next.len() == keep.len() {
+            break;
+        }
+        keep = next;
+    }
+    disk
+}
+
+/// Least-squares circle $x^2 + y^2 + Dx + Ey + F = 0$ through `points`.
+fn kasa(points: &[glam::DVec2]) -> Option<Disk> {
+    if points.len() < 3 {
+        return None;
+    }
+    let (mut m, mut rhs) = (DMat3::ZERO, DVec3::ZERO);
+    for p in points {
+        let row = DVec3::new(p.x, p.y, 1.0);
+        m += DMat3::from_cols(row * row.x, row * row.y, row * row.z);
+        rhs += row * -(p.x * p.x + p.y * p.y);
+    }
+    if m.determinant().abs() < 1e-9 {
+        return None;
+    }
+    let s = m.inverse() * rhs;
+    let (cx, cy) = (-s.x / 2.0, -s.y / 2.0);
+    let r2 = cx * cx + cy * cy - s.z;
+    (r2 > 0.0 && r2.is_finite()).then(|| Disk { cx, cy, r: r2.sqrt() })
+}
+
+/// Median colour of the picture's outermost ring of pixels.
+fn border_median(p: &Painting) -> [f32; 3] {
+    let (w, h) = (p.width, p.height);
+    let mut ring = Vec::new();
+    for i in 0..w {
+        ring.push(p.pixels[i]);
+        ring.push(p.pixels[(h - 1) * w + i]);
+    }
+    for j in 0..h {
+        ring.push(p.pixels[j * w]);
+        ring.push(p.pixels[j * w + w - 1]);
+    }
+    [0, 1, 2].map(|c| {
+        let mut v: Vec<f32> = ring.iter().map(|x| x[c]).collect();
+        v.sort_by(f32::total_cmp);
+        v[v.len() / 2]
+    })
+}
+
+/// Largest channel difference after a square root (roughly perceptual: dark rims still
+/// differ from a black background).
+fn perceptual_distance(a: &[f32; 3], b: &[f32; 3]) -> f32 {
+    (0..3).map(|c| (a[c].max(0.0).sqrt() - b[c].max(0.0).sqrt()).abs()).fold(0.0, f32::max)
+}
+
+/// Otsu's threshold of values in [0, max]: the split with the largest between-class variance.
+fn otsu(values: &[f32], max: f32) -> f32 {
+    const BINS: usize = 256;
+    let mut hist = [0usize; BINS];
+    for &v in values {
+        hist[((v / max * (BINS - 1) as f32) as usize).min(BINS - 1)] += 1;
+    }
+    let total = values.len() as f64;
+    let sum: f64 = hist.iter().enumerate().map(|(i, &n)| i as f64 * n as f64).sum();
+    let (mut best, mut best_t, mut w0, mut sum0) = (-1.0, 0usize, 0.0, 0.0);
+    for (t, &n) in hist.iter().enumerate() {
+        w0 += n as f64;
+        sum0 += t as f64 * n as f64;
+        let w1 = total - w0;
+        if w0 == 0.0 || w1 == 0.0 {
+            continue;
+        }
+        let (m0, m1) = (sum0 / w0, (sum - sum0) / w1);
+        let between = w0 * w1 * (m0 - m1).powi(2);
+        if between > best {
+            best = between;
+            best_t = t;
+        }
+    }
+    (best_t as f32 + 0.5) / (BINS - 1) as f32 * max
+}
+
+/// 4-connected labels of `mask` (0: background; components numbered from 1).
+fn label(mask: &[bool], w: usize, h: usize) -> Vec<u32> {
+    let mut labels = vec![0u32; w * h];
+    let mut next = 0;
+    let mut stack = Vec::new();
+    for start in 0..w * h {
+        if !mask[start] || labels[start] != 0 {
+            continue;
+        }
+        next += 1;
+        labels[start] = next;
+        stack.push(start);
+        while let Some(k) = stack.pop() {
+            let (i, j) = (k % w, k / w);
+            let mut visit = |n: usize| {
+                if mask[n] && labels[n] == 0 {
+                    labels[n] = next;
+                    stack.push(n);
+                }
+            };
+            if i > 0 {
+                visit(k - 1);
+            }
+            if i + 1 < w {
+                visit(k + 1);
+            }
+            if j > 0 {
+                visit(k - w);
+            }
+            if j + 1 < h {
+                visit(k + w);
+            }
+        }
+    }
+    labels
+}
+
+/// (label, area) of every component of `mask`.
+fn components(mask: &[bool], w: usize, h: usize) -> Vec<(u32, usize)> {
+    let labels = label(mask, w, h);
+    let n = labels.iter().copied().max().unwrap_or(0) as usize;
+    let mut area = vec![0usize; n + 1];
+    for &l in &labels {
+        area[l as usize] += 1;
+    }
+    (1..=n).map(|l| (l as u32, area[l])).collect()
+}
+
+/// Rec. 709 luminance of linear RGB.
+fn luminance(c: &[f32; 3]) -> f64 {
+    0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64
+}
+
+/// Directions towards the front of the sphere ($l_z \ge 0.15$), about evenly spread
+/// (a Fibonacci spiral of `n` points over the whole sphere, the front ones kept).
+fn front_directions(n: usize) -> Vec<DVec3> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..n)
+        .map(|k| {
+            let z = 1.0 - 2.0 * (k as f64 + 0.5) / n as f64;
+            let r = (1.0 - z * z).sqrt();
+            let phi = golden * k as f64;
+            DVec3::new(r * phi.cos(), r * phi.sin(), z)
+        })
+        .filter(|d| d.z >= MIN_LIGHT_Z)
+        .collect()
+}
+
+/// The estimate stays in front of the sphere: $l_z$ at least this (81° from the view).
+pub const MIN_LIGHT_Z: f64 = 0.15;
+
+/// Weighted least-squares cost of the shading model under light `l` (module docs), with
+/// its coefficients; `None` when the fit would need light to darken the lit side.
+fn model_cost(l: DVec3, normals: &[DVec3], y: &[f64], weight: &[f64]) -> Option<(f64, [f64; 3])> {
+    let feature = |n: &DVec3| {
+        let c = n.dot(l);
+        DVec3::new(1.0, c.max(0.0), c.min(0.0))
+    };
+    let solve = |cols: usize| -> Option<(f64, [f64; 3])> {
+        let (mut m, mut rhs) = (DMat3::ZERO, DVec3::ZERO);
+        for ((n, &yv), &wt) in normals.iter().zip(y).zip(weight) {
+            let mut f = feature(n);
+            if cols == 2 {
+                f.z = 0.0;
+            }
+            m += DMat3::from_cols(f * f.x, f * f.y, f * f.z) * wt;
+            rhs += f * yv * wt;
+        }
+        // A tiny ridge: with the light at the viewer no pixel is unlit and c has no data.
+        let ridge = 1e-9 * (m.x_axis.x + 1.0);
+        m += DMat3::from_diagonal(DVec3::splat(ridge));
+        if cols == 2 {
+            m.z_axis.z = 1.0;
+        }
+        let s = m.inverse() * rhs;
+        if !s.is_finite() || s.y < 0.0 {
+            return None;
+        }
+        let cost: f64 = normals.iter().zip(y).zip(weight).map(|((n, &yv), &wt)| wt * (feature(n).dot(s) - yv).powi(2)).sum();
+        Some((cost, s.to_array()))
+    };
+    match solve(3) {
+        Some((cost, s)) if s[2] >= 0.0 => Some((cost, s)),
+        _ => solve(2),
+    }
+}
+
+/// Estimates the key light of a lit sphere (module docs). At most 4000 disk pixels are used.
+pub fn estimate_light(p: &Painting, disk: &Disk) -> Result<LightEstimate> {
+    let (mut normals, mut y) = (Vec::new(), Vec::new());
+    let total = (std::f64::consts::PI * disk.r * disk.r) as usize;
+    let stride = ((total as f64 / 4000.0).sqrt().floor() as usize).max(1);
+    for j in (0..p.height).step_by(stride) {
+        for i in (0..p.width).step_by(stride) {
+            let k = j * p.width + i;
+            if p.alpha[k] <= 0.0 {
+                continue;
+            }
+            // Off the rim, where normals are steep and edges mix with the background.
+            if let Some(n) = disk.normal(i, j, 0.95) {
+                normals.push(n);
+                y.push(luminance(&p.pixels[k]));
+            }
+        }
+    }
+    if normals.len() < 32 {
+        return Err(Error::input("the sphere is too small or too transparent to estimate its light"));
+    }
+    let best_of = |dirs: &[DVec3], weight: &[f64]| -> Option<(DVec3, f64, [f64; 3])> {
+        dirs.iter()
+            .filter_map(|&l| model_cost(l, &normals, &y, weight).map(|(c, s)| (l, c, s)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    };
+    let coarse = front_directions(6000);
+    let mut weight = vec![1.0; normals.len()];
+    let (mut best, mut cost, mut coef) = best_of(&coarse, &weight).ok_or_else(|| Error::input("no light explains the sphere's shading"))?;
+    // Robust reweighting: pixels the model misses by far (highlights, strokes, rim lights)
+    // stop pulling the light towards them.
+    for _ in 0..3 {
+        let residual: Vec<f64> = normals
+            .iter()
+            .zip(&y)
+            .map(|(n, &yv)| {
+                let c = n.dot(best);
+                coef[0] + coef[1] * c.max(0.0) + coef[2] * c.min(0.0) - yv
+            })
+            .collect();
+        let mut abs: Vec<f64> = residual.iter().map(|r| r.abs()).collect();
+        abs.sort_by(f64::total_cmp);
+        let sigma = (1.4826 * abs[abs.len() / 2]).max(1e-6 * y.iter().cloned().fold(0.0, f64::max));
+        weight = residual.iter().map(|r| if r.abs() <= 2.5 * sigma { 1.0 } else { 0.0 }).collect();
+        (best, cost, coef) = best_of(&coarse, &weight).ok_or_else(|| Error::input("no light explains the sphere's shading"))?;
+    }
+    // Refine in a cap of 4° around the best, and measure how flat the minimum is.
+    let fine: Vec<DVec3> = cap(best, 4f64.to_radians(), 600);
+    if let Some((b, c, _)) = best_of(&fine, &weight) {
+        if c < cost {
+            (best, cost) = (b, c);
+        }
+    }
+    let spread = coarse
+        .iter()
+        .chain(&fine)
+        .filter_map(|&l| model_cost(l, &normals, &y, &weight).filter(|(c, _)| *c <= 1.1 * cost).map(|_| l.angle_between(best)))
+        .fold(0.0f64, f64::max);
+    let inliers = weight.iter().sum::<f64>() / weight.len() as f64;
+    Ok(LightEstimate { direction: best, spread_deg: spread.to_degrees(), inliers })
+}
+
+/// About `n` directions within `angle` of `centre`, in front of the sphere.
+fn cap(centre: DVec3, angle: f64, n: usize) -> Vec<DVec3> {
+    let (t, b) = centre.any_orthonormal_pair();
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let cos_max = angle.cos();
+    (0..n)
+        .map(|k| {
+            let z = 1.0 - (1.0 - cos_max) * (k as f64 + 0.5) / n as f64;
+            let r = (1.0 - z * z).sqrt();
+            let phi = golden * k as f64;
+            (centre * z + t * r * phi.cos() + b * r * phi.sin()).normalize()
+        })
+        .filter(|d| d.z >= MIN_LIGHT_Z)
+        .collect()
+}
+
+/// The scene of a lit-sphere picture of `width` × `height`: the unit sphere seen from +Z by
+/// an orthographic camera that puts its outline on `disk`, lit by a white directional light
+/// from `light` (towards the light, view frame = world frame).
+pub fn scene(disk: &Disk, width: usize, height: usize, light: DVec3) -> Scene {
+    let (w, h, r) = (width as f64, height as f64, disk.r);
+    // Pixel centre (cx, cy) is the world origin; r pixels are one world unit.
+    let (tx, ty) = (-(disk.cx - w / 2.0) / r, (disk.cy - h / 2.0) / r);
+    let world_from_camera = Mat4::from_translation(Vec3::new(tx as f32, ty as f32, 5.0));
+    let projection = Projection::Orthographic { xmag: (w / (2.0 * r)) as f32, ymag: (h / (2.0 * r)) as f32, znear: 0.1, zfar: 20.0 };
+    let towards = light.normalize().as_vec3();
+    Scene {
+        meshes: vec![sphere_mesh(128, 64)],
+        camera: Camera { world_from_camera, projection },
+        light: Light::Directional { direction: -towards, color: Vec3::ONE, intensity: 1.0 },
+    }
+}
+
+/// `p` box-filtered so its longer side is at most `max_side` (alpha-weighted colours), and the
+/// factor it was shrunk by.
+pub fn shrink(p: &Painting, max_side: usize) -> (Painting, usize) {
+    let f = p.width.max(p.height).div_ceil(max_side).max(1);
+    if f == 1 {
+        return (p.clone(), 1);
+    }
+    let (w, h) = (p.width / f, p.height / f);
+    let mut out = Painting { width: w, height: h, pixels: vec![[0.0; 3]; w * h], alpha: vec![0.0; w * h], saturated: vec![false; w * h] };
+    for j in 0..h {
+        for i in 0..w {
+            let (mut c, mut a, mut sat) = ([0.0f32; 3], 0.0f32, true);
+            for y in j * f..(j + 1) * f {
+                for x in i * f..(i + 1) * f {
+                    let k = y * p.width + x;
+                    for ch in 0..3 {
+                        c[ch] += p.pixels[k][ch] * p.alpha[k];
+                    }
+                    a += p.alpha[k];
+                    sat &= p.saturated[k];
+                }
+            }
+            let k = j * w + i;
+            out.alpha[k] = a / (f * f) as f32;
+            out.pixels[k] = if a > 0.0 { c.map(|x| x / a) } else { [0.0; 3] };
+            out.saturated[k] = sat;
+        }
+    }
+    (out, f)
+}
+
+/// A lit-sphere fit: the material and everything a caller reports or writes.
+pub struct LitSphere {
+    pub fitted: Fitted,
+    pub view: PaintedView,
+    /// The scene the picture was fitted in (MAT/scene.gltf).
+    pub scene: Scene,
+    pub disk: Disk,
+    /// `None` when the user gave the light.
+    pub estimate: Option<LightEstimate>,
+    pub light: DVec3,
+}
+
+/// Fits a material to a lit-sphere picture or MatCap at `path` (PNG, JPEG, EXR), lit from
+/// `light` (view frame, towards the light) or from the estimated light.
+pub fn fit(path: &Path, light: Option<DVec3>, opts: &Options, cache: Option<&Cache>) -> Result<LitSphere> {
+    let name = path.display().to_string();
+    let original = Painting::read(path)?;
+    let (mut painting, _) = shrink(&original, MAX_SIDE);
+    let disk = find_disk(&painting, &name)?;
+    // Only the sphere is paint: the background (and the rim, which mixes with it) is not.
+    for j in 0..painting.height {
+        for i in 0..painting.width {
+            if disk.normal(i, j, 0.98).is_none() {
+                painting.alpha[j * painting.width + i] = 0.0;
+            }
+        }
+    }
+    let estimate = match light {
+        Some(_) => None,
+        None => Some(estimate_light(&painting, &disk)?),
+    };
+    let light = match (light, &estimate) {
+        (Some(l), _) => {
+            if !(l.is_finite() && l.length() > 1e-9) {
+                return Err(Error::input(format!("--light {l}: not a direction")));
+            }
+            l.normalize()
+        }
+        (None, Some(e)) => e.direction,
+        (None, None) => unreachable!("estimated above"),
+    };
+    let scene = scene(&disk, painting.width, painting.height, light);
+    let mut sampler = SceneSampler::new()?;
+    let geometry = sampler.geometry(&scene, painting.width, painting.height, Erosion::default())?;
+    let view = PaintedView { name: name.clone(), source: format!("{name} (lit sphere)"), geometry, painting };
+    let fitted = pipeline::fit(std::slice::from_ref(&view), opts, cache)?;
+    Ok(LitSphere { fitted, view, scene, disk, estimate, light })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn disk_picture(w: usize, h: usize, d: Disk, soft: f64, bg: [f32; 3], alpha: bool) -> Painting {
+        let mut p = Painting::opaque(w, h, vec![bg; w * h]).unwrap();
+        for j in 0..h {
+            for i in 0..w {
+                let dist = ((i as f64 + 0.5 - d.cx).powi(2) + (j as f64 + 0.5 - d.cy).powi(2)).sqrt();
+                let cover = ((d.r - dist) / soft.max(1e-3) + 0.5).clamp(0.0, 1.0) as f32;
+                let k = j * w + i;
+                let c = [0.8, 0.3, 0.2];
+                if alpha {
+                    p.alpha[k] = cover;
+                    p.pixels[k] = c;
+                } else {
+                    p.pixels[k] = [0, 1, 2].map(|ch| c[ch] * cover + bg[ch] * (1.0 - cover));
+                }
+            }
+        }
+        p
+    }
+
+    #[test]
+    fn finds_off_centre_scaled_soft_disks_on_white_and_on_transparent() {
+        for (w, h, d, soft, alpha) in [
+            (200, 160, Disk { cx: 70.3, cy: 90.1, r: 50.0 }, 1.0, false),
+            (300, 300, Disk { cx: 150.0, cy: 150.0, r: 140.0 }, 4.0, false),
+            (120, 200, Disk { cx: 60.0, cy: 120.5, r: 33.3 }, 2.0, true),
+        ] {
+            let p = disk_picture(w, h, d, soft, [1.0; 3], alpha);
+            let found = find_disk(&p, "test").unwrap();
+            assert!((found.cx - d.cx).abs() < 1.0 && (found.cy - d.cy).abs() < 1.0, "{found:?} vs {d:?}");
+            assert!((found.r - d.r).abs() < 1.0, "{found:?} vs {d:?}");
+        }
+    }
+
+    #[test]
+    fn refuses_background_two_disks_and_non_round_shapes() {
+        let blank = Painting::opaque(64, 64, vec![[0.5; 3]; 64 * 64]).unwrap();
+        assert!(find_disk(&blank, "b.png").unwrap_err().to_string().contains("all background"));
+        let mut two = disk_picture(200, 100, Disk { cx: 50.0, cy: 50.0, r: 30.0 }, 1.0, [0.0; 3], false);
+        let other = disk_picture(200, 100, Disk { cx: 150.0, cy: 50.0, r: 30.0 }, 1.0, [0.0; 3], false);
+        for (a, b) in two.pixels.iter_mut().zip(&other.pixels) {
+            *a = [0, 1, 2].map(|c| a[c].max(b[c]));
+        }
+        assert!(find_disk(&two, "t.png").unwrap_err().to_string().contains("two shapes"));
+        let mut square = Painting::opaque(100, 100, vec![[0.0; 3]; 100 * 100]).unwrap();
+        for j in 20..80 {
+            for i in 20..80 {
+                square.pixels[j * 100 + i] = [0.9; 3];
+            }
+        }
+        assert!(find_disk(&square, "s.png").unwrap_err().to_string().contains("no disk"));
+    }
+
+    #[test]
+    fn kasa_recovers_a_circle_from_three_points() {
+        let d = kasa(&[glam::DVec2::new(1.0, 0.0), glam::DVec2::new(-1.0, 0.0), glam::DVec2::new(0.0, 1.0)]).unwrap();
+        assert!(d.cx.abs() < 1e-9 && d.cy.abs() < 1e-9 && (d.r - 1.0).abs() < 1e-9, "{d:?}");
+    }
+}
