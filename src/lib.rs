@@ -35,9 +35,11 @@
 pub mod bench;
 pub mod brdf;
 pub mod cli;
+pub mod commit;
 pub mod demo;
 pub mod error;
 pub mod factor;
+pub mod fsio;
 pub mod gl;
 pub mod images;
 pub mod material;
