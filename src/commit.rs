@@ -220,6 +220,11 @@ pub fn replace_dir(tmp: &Path, dir: &Path) -> Result<()> {
             return Ok(());
         }
         Err(e) => return Err(Error::io(dir, e)),
+        // An exchange would put a file or link that appeared meanwhile under a temporary
+        // name, to be removed: never replace anything but a directory.
+        Ok(m) if !m.is_dir() => {
+            return Err(Error::input(format!("{} exists and is not a directory; not overwriting it", dir.display())));
+        }
         Ok(_) => {}
     }
     match exchange(tmp, dir) {
@@ -326,6 +331,12 @@ impl StagedDir {
     /// in the target directory, not the temporary one.
     pub fn write(&self, name: &str, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
         write(&self.tmp.join(name)).map_err(|e| retarget_error(e, &self.tmp, &self.target))
+    }
+
+    /// Writes into the staged directory with `write` (given its temporary path); errors name
+    /// the target directory, not the temporary one.
+    pub fn fill(&self, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+        write(&self.tmp).map_err(|e| retarget_error(e, &self.tmp, &self.target))
     }
 
     /// Replaces `target` by the staged directory in one atomic step, carrying over the

@@ -158,7 +158,12 @@ pub(super) fn run(args: FitArgs) -> Result<()> {
 }
 
 fn save(material: &Material, out: &Path) -> Result<()> {
-    material.save(out).map_err(|e| match e {
+    stage(material, out)?.commit()
+}
+
+/// The material staged for `out`, to which the report is added before it is committed.
+fn stage(material: &Material, out: &Path) -> Result<crate::commit::StagedDir> {
+    material.stage(out).map_err(|e| match e {
         Error::Io { .. } | Error::Format { .. } => e,
         other => Error::input(format!("{}: {other}", out.display())),
     })
@@ -258,9 +263,11 @@ fn run_paintings(args: &FitArgs, settings: &Settings) -> Result<()> {
     };
     let per_view = report::view_errors(&samples, &views, &material);
     let image = report::image(&views, &material)?;
-    save(&material, &args.out)?;
+    // report.png is part of the material's directory when it appears.
+    let staged = stage(&material, &args.out)?;
+    staged.write("report.png", |p| image.write_png(p))?;
+    staged.commit()?;
     let report_path = args.out.join("report.png");
-    image.write_png(&report_path)?;
 
     for (k, (view, e)) in views.iter().zip(&per_view).enumerate() {
         println!(
