@@ -78,7 +78,11 @@ const MAX_DECODE_ALLOC: u64 = 600 << 20;
 /// ([`MAX_PIXELS`], [`MAX_DECODE_SIDE`]) and the decoder's allocations limited; a JPEG must
 /// also be complete ([`check_jpeg_complete`]). Errors name `path`.
 pub fn decode_limited(path: &Path, bytes: &[u8], format: ImageFormat) -> Result<image::DynamicImage> {
-    let corrupt = |e: image::ImageError| Error::format(path, format!("corrupt or truncated {}: {e}", format_name(format)));
+    // Decoder messages may span lines (the JPEG decoder's do): errors are one line.
+    let corrupt = |e: image::ImageError| {
+        let e = e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
+        Error::format(path, format!("corrupt or truncated {}: {e}", format_name(format)))
+    };
     let reader = || image::ImageReader::with_format(Cursor::new(bytes), format);
     let (w, h) = reader().into_dimensions().map_err(corrupt)?;
     let (w, h) = (w as usize, h as usize);
