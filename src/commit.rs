@@ -429,7 +429,9 @@ impl StagedFiles {
                 )));
             }
         }
-        let tmp = temp_sibling(target);
+        // One sweep of the directory per set: a sequence of thousands of frames must not
+        // list its directory once per frame.
+        let tmp = if self.files.is_empty() { temp_sibling(target) } else { temp_path(target, Role::New) };
         self.files.push((tmp.clone(), target.to_path_buf()));
         write(&tmp).map_err(|e| retarget_error(e, &tmp, target))
     }

@@ -88,7 +88,6 @@ pub fn run() -> ExitCode {
     }
 }
 
-
 /// clap's message for a usage error as one line: the error and the arguments it names,
 /// without the usage block and tips (DESIGN.md: errors are one readable line).
 fn one_line_usage_error(e: &clap::Error) -> String {
