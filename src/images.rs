@@ -45,15 +45,13 @@ impl Rgb {
         write_atomic(path, out.get_ref())
     }
 
-    /// Read a linear float EXR (RGB; alpha, if any, is ignored).
+    /// Read a linear float EXR (RGB; alpha, if any, is ignored). The file is read under the
+    /// file-access policy ([`crate::fsio`]) and its size checked from the header before it
+    /// is decoded ([`decode_limited`]).
     pub fn read_exr(path: &Path) -> Result<Rgb> {
-        let reader = image::ImageReader::open(path).map_err(|e| Error::io(path, e))?;
-        let img = reader
-            .with_guessed_format()
-            .map_err(|e| Error::io(path, e))?
-            .decode()
-            .map_err(|e| Error::format(path, format!("cannot decode: {e}")))?
-            .into_rgb32f();
+        let bytes = crate::fsio::read_regular(path, crate::fsio::MAX_IMAGE_BYTES)?;
+        let format = image::guess_format(&bytes).map_err(|_| Error::format(path, "cannot decode: not an image"))?;
+        let img = decode_limited(path, &bytes, format)?.into_rgb32f();
         let (width, height) = (img.width() as usize, img.height() as usize);
         let pixels = img.pixels().map(|p| p.0).collect();
         Ok(Rgb { width, height, pixels })
@@ -62,6 +60,68 @@ impl Rgb {
 
 /// Largest image side accepted anywhere.
 pub const MAX_SIDE: usize = 1 << 15;
+
+/// Most pixels of an image file that is decoded: the renderer's limit
+/// (`gl::Limits::MAX_PIXELS`, 4096 × 4096), since every image read is drawn or sampled
+/// against a rendered grid. Checked from the header, before any pixel is decoded, so a small
+/// file claiming a huge image costs nothing.
+pub const MAX_PIXELS: usize = 1 << 24;
+
+/// Largest side of an image file that is decoded (the renderer's largest target side).
+pub const MAX_DECODE_SIDE: usize = 1 << 14;
+
+/// Most bytes the decoder may allocate for one image: a 4096² RGBA float image (256 MiB)
+/// and its conversion.
+const MAX_DECODE_ALLOC: u64 = 600 << 20;
+
+/// Decodes an image file's bytes in `format` with its size checked from the header first
+/// ([`MAX_PIXELS`], [`MAX_DECODE_SIDE`]) and the decoder's allocations limited; a JPEG must
+/// also be complete ([`check_jpeg_complete`]). Errors name `path`.
+pub fn decode_limited(path: &Path, bytes: &[u8], format: ImageFormat) -> Result<image::DynamicImage> {
+    // Decoder messages may span lines (the JPEG decoder's do): errors are one line.
+    let corrupt = |e: image::ImageError| {
+        let e = e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
+        Error::format(path, format!("corrupt or truncated {}: {e}", format_name(format)))
+    };
+    let reader = || image::ImageReader::with_format(Cursor::new(bytes), format);
+    let (w, h) = reader().into_dimensions().map_err(corrupt)?;
+    let (w, h) = (w as usize, h as usize);
+    if w == 0 || h == 0 || w > MAX_DECODE_SIDE || h > MAX_DECODE_SIDE || w * h > MAX_PIXELS {
+        return Err(Error::format(
+            path,
+            format!(
+                "a {w}x{h} image is outside the sizes read (1 to {MAX_DECODE_SIDE} per side and at most {MAX_PIXELS} pixels, 4096x4096)"
+            ),
+        ));
+    }
+    if format == ImageFormat::Jpeg {
+        check_jpeg_complete(bytes).map_err(|reason| Error::format(path, format!("corrupt or truncated JPEG: {reason}")))?;
+    }
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_DECODE_SIDE as u32);
+    limits.max_image_height = Some(MAX_DECODE_SIDE as u32);
+    limits.max_alloc = Some(MAX_DECODE_ALLOC);
+    let mut r = reader();
+    r.limits(limits);
+    r.decode().map_err(corrupt)
+}
+
+/// A JPEG's entropy-coded data ends with the EOI marker (FF D9): the JPEG decoder fills a
+/// file cut short with grey instead of failing, so a truncated file (a half-written save,
+/// a broken download) is caught here. EOI must follow the last start-of-scan marker
+/// (FF DA); an EOI inside an embedded thumbnail, before the scans, does not count.
+pub fn check_jpeg_complete(bytes: &[u8]) -> std::result::Result<(), String> {
+    let find_last = |marker: u8| bytes.windows(2).rposition(|w| w[0] == 0xFF && w[1] == marker);
+    let Some(sos) = find_last(0xDA) else { return Err("no image data (no start-of-scan marker)".into()) };
+    match find_last(0xD9) {
+        Some(eoi) if eoi > sos => Ok(()),
+        _ => Err("the file ends before its end-of-image marker".into()),
+    }
+}
+
+/// EXR values this little below zero are filtering round-off (Blender's bundled MatCaps
+/// have them, down to -5e-6), read as 0; anything more negative is an error.
+pub const NEGATIVE_NOISE: f32 = 1e-3;
 
 /// Reject sizes of zero or absurdly large.
 pub fn check_size(width: usize, height: usize) -> Result<()> {
@@ -135,7 +195,8 @@ mod tests {
 /// - 8- and 16-bit PNG and JPEG are sRGB-encoded: each code is divided by its largest value
 ///   (255 or 65535, so 16-bit files keep their precision) and decoded with the sRGB transfer
 ///   function. Grey files are read as equal R, G and B.
-/// - EXR is linear float. NaN, infinite and negative values are errors naming the pixel.
+/// - EXR is linear float. NaN, infinite and negative values are errors naming the pixel,
+///   except negatives within [`NEGATIVE_NOISE`] of zero, which are read as 0.
 ///   OpenEXR stores colour premultiplied by alpha, so a pixel with $0 < \alpha < 1$ is
 ///   divided by $\alpha$; PNG alpha is straight and colour is taken as it is.
 /// - Alpha is linear in $[0, 1]$ and only a mask: alpha 0 means "not painted", anything
@@ -169,11 +230,12 @@ impl Painting {
         self.alpha[k] > 0.0
     }
 
-    /// Read a PNG (8 or 16 bit), JPEG or EXR file. Errors name the file: unreadable,
-    /// corrupt or truncated, an unsupported format, NaN, infinite or negative EXR values,
-    /// absurd sizes.
+    /// Read a PNG (8 or 16 bit), JPEG or EXR file. Errors name the file: unreadable (or
+    /// not a regular file), corrupt or truncated (a JPEG without its end marker too), an
+    /// unsupported format, NaN, infinite or negative EXR values, absurd sizes (refused from
+    /// the header, before decoding: [`MAX_PIXELS`]).
     pub fn read(path: &Path) -> Result<Painting> {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let bytes = crate::fsio::read_regular(path, crate::fsio::MAX_IMAGE_BYTES)?;
         Painting::decode(path, &bytes)
     }
 
@@ -190,8 +252,7 @@ impl Painting {
                 format!("unsupported image format {format:?}: paintings are read from PNG, JPEG or EXR"),
             ));
         }
-        let img = image::load_from_memory_with_format(bytes, format)
-            .map_err(|e| Error::format(path, format!("corrupt or truncated {}: {e}", format_name(format))))?;
+        let img = decode_limited(path, bytes, format)?;
         let (width, height) = (img.width() as usize, img.height() as usize);
         check_size(width, height).map_err(|e| Error::format(path, e.to_string()))?;
         let n = width * height;
@@ -228,10 +289,11 @@ impl Painting {
                         if x.is_infinite() {
                             return Err(Error::format(path, format!("pixel ({i}, {j}) has an infinite {what} value")));
                         }
-                        if x < 0.0 {
+                        if x < -NEGATIVE_NOISE {
                             return Err(Error::format(path, format!("pixel ({i}, {j}) has a negative {what} value {x}")));
                         }
                     }
+                    let [r, g, b, a] = [r, g, b, a].map(|x| x.max(0.0));
                     let a = a.min(1.0);
                     // Un-premultiply partially covered pixels (OpenEXR convention).
                     let s = if a > 0.0 && a < 1.0 { 1.0 / a } else { 1.0 };
@@ -397,5 +459,59 @@ mod painting_tests {
         }
         let e = Painting::read(Path::new("/nonexistent/p.png")).unwrap_err().to_string();
         assert!(e.contains("/nonexistent/p.png"), "{e}");
+    }
+
+    /// A JPEG cut short decodes to grey in the decoder; it is refused here, whole ones pass.
+    #[test]
+    fn truncated_jpegs_are_refused() {
+        let img = image::RgbImage::from_fn(64, 64, |x, y| image::Rgb([(x * 4) as u8, (y * 4) as u8, 128]));
+        let mut bytes = Cursor::new(Vec::new());
+        img.write_to(&mut bytes, ImageFormat::Jpeg).unwrap();
+        let good = bytes.into_inner();
+        assert!(Painting::decode(Path::new("p.jpg"), &good).is_ok());
+        for cut in [good.len() - 2, good.len() * 3 / 4, good.len() / 2] {
+            let e = Painting::decode(Path::new("cut.jpg"), &good[..cut]).unwrap_err().to_string();
+            assert!(e.starts_with("cut.jpg: corrupt or truncated JPEG"), "{cut}: {e}");
+        }
+    }
+
+    /// A small PNG whose header claims 13000²: refused from the header, before decoding.
+    #[test]
+    fn image_bombs_are_refused_from_the_header() {
+        let e = Painting::decode(Path::new("bomb.png"), &png_header_only(13000, 13000)).unwrap_err().to_string();
+        assert!(e.contains("bomb.png: a 13000x13000 image is outside the sizes read"), "{e}");
+        let e = Painting::decode(Path::new("wide.png"), &png_header_only(20000, 1)).unwrap_err().to_string();
+        assert!(e.contains("20000x1"), "{e}");
+    }
+
+    /// An 8-bit RGB PNG of `w` × `h` whose data is a few bytes of nothing: what a decoder
+    /// would allocate for is only in the header.
+    pub(crate) fn png_header_only(w: u32, h: u32) -> Vec<u8> {
+        let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+        let mut chunk = |kind: &[u8], data: &[u8]| {
+            let mut body = kind.to_vec();
+            body.extend_from_slice(data);
+            out.extend_from_slice(&(data.len() as u32).to_be_bytes());
+            out.extend_from_slice(&body);
+            out.extend_from_slice(&crc32(&body).to_be_bytes());
+        };
+        let mut ihdr = w.to_be_bytes().to_vec();
+        ihdr.extend_from_slice(&h.to_be_bytes());
+        ihdr.extend_from_slice(&[8, 2, 0, 0, 0]);
+        chunk(b"IHDR", &ihdr);
+        chunk(b"IDAT", &[0x78, 0x9c, 0x03, 0x00]);
+        chunk(b"IEND", &[]);
+        out
+    }
+
+    fn crc32(bytes: &[u8]) -> u32 {
+        let mut c = 0xFFFF_FFFFu32;
+        for &b in bytes {
+            c ^= b as u32;
+            for _ in 0..8 {
+                c = if c & 1 != 0 { 0xEDB8_8320 ^ (c >> 1) } else { c >> 1 };
+            }
+        }
+        !c
     }
 }

@@ -33,9 +33,11 @@
 //! ```
 
 pub mod brdf;
+pub mod commit;
 pub mod demo;
 pub mod error;
 pub mod factor;
+pub mod fsio;
 pub mod gl;
 pub mod images;
 pub mod litsphere;

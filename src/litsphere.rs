@@ -70,26 +70,78 @@ pub struct LightEstimate {
     pub inliers: f64,
 }
 
+/// How the sphere's outline was found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outline {
+    /// A circle fitted to the picture's alpha channel.
+    Alpha,
+    /// A circle fitted to the pixels that differ from the background.
+    Background,
+    /// No clear outline in a square picture: the disk inscribed in it, as in every MatCap.
+    Inscribed,
+}
+
 /// Where the sphere is: a circle fitted to the alpha channel when the picture has one, or
-/// else to the pixels that differ from the background colour (the median of the picture's
-/// border, split from the sphere by Otsu's threshold). Errors, one line each: the picture is
+/// else to what is not background (the pixels like the border's median colour, split by
+/// Otsu's threshold, that connect to the border); a square picture without a clear outline
+/// is taken as a MatCap, whose disk is inscribed in it. Errors, one line each: the picture is
 /// all background, no round shape, two shapes.
-pub fn find_disk(p: &Painting, name: &str) -> Result<Disk> {
+pub fn find_disk(p: &Painting, name: &str) -> Result<(Disk, Outline)> {
     let (w, h) = (p.width, p.height);
     let has_alpha = p.alpha.iter().any(|&a| a < 0.5) && p.alpha.iter().any(|&a| a >= 0.5);
-    let mask: Vec<bool> = if has_alpha {
-        p.alpha.iter().map(|&a| a >= 0.5).collect()
-    } else {
-        let key = border_median(p);
-        let distance: Vec<f32> = p.pixels.iter().map(|c| perceptual_distance(c, &key)).collect();
-        let max = distance.iter().cloned().fold(0.0f32, f32::max);
-        if max < 0.02 {
-            return Err(Error::input(format!("{name} is all background: no sphere to find")));
+    if has_alpha {
+        let mask: Vec<bool> = p.alpha.iter().map(|&a| a >= 0.5).collect();
+        return outline_circle(&mask, w, h, name).map(|d| (d, Outline::Alpha));
+    }
+    let key = border_median(p);
+    let distance: Vec<f32> = p.pixels.iter().map(|c| perceptual_distance(c, &key)).collect();
+    let max = distance.iter().cloned().fold(0.0f32, f32::max);
+    if max < 0.02 {
+        return Err(Error::input(format!("{name} is all background: no sphere to find")));
+    }
+    let t = otsu(&distance, max);
+    let like_border: Vec<bool> = distance.iter().map(|&d| d <= t).collect();
+    let background = connected_to_border(&like_border, w, h);
+    let mask: Vec<bool> = background.iter().map(|&b| !b).collect();
+    match outline_circle(&mask, w, h, name) {
+        Ok(d) => Ok((d, Outline::Background)),
+        Err(_) if w.abs_diff(h) <= 1 => {
+            let r = w.min(h) as f64 / 2.0;
+            Ok((Disk { cx: w as f64 / 2.0, cy: h as f64 / 2.0, r }, Outline::Inscribed))
         }
-        let t = otsu(&distance, max);
-        distance.iter().map(|&d| d > t).collect()
-    };
-    let components = components(&mask, w, h);
+        Err(e) => Err(e),
+    }
+}
+
+/// The pixels of `mask` connected (4-neighbours) to the picture's border through `mask`.
+fn connected_to_border(mask: &[bool], w: usize, h: usize) -> Vec<bool> {
+    let mut seen = vec![false; w * h];
+    let mut stack: Vec<usize> = (0..w).flat_map(|i| [i, (h - 1) * w + i]).chain((0..h).flat_map(|j| [j * w, j * w + w - 1])).collect();
+    while let Some(k) = stack.pop() {
+        if seen[k] || !mask[k] {
+            continue;
+        }
+        seen[k] = true;
+        let (i, j) = (k % w, k / w);
+        if i > 0 {
+            stack.push(k - 1);
+        }
+        if i + 1 < w {
+            stack.push(k + 1);
+        }
+        if j > 0 {
+            stack.push(k - w);
+        }
+        if j + 1 < h {
+            stack.push(k + w);
+        }
+    }
+    seen
+}
+
+/// The circle of the one large shape of `mask`.
+fn outline_circle(mask: &[bool], w: usize, h: usize, name: &str) -> Result<Disk> {
+    let components = components(mask, w, h);
     let Some(&(largest, area)) = components.iter().max_by_key(|c| c.1) else {
         return Err(Error::input(format!("{name} is all background: no sphere to find")));
     };
@@ -103,7 +155,7 @@ pub fn find_disk(p: &Painting, name: &str) -> Result<Disk> {
             )));
         }
     }
-    let labels = label(&mask, w, h);
+    let labels = label(mask, w, h);
     let inside = |i: isize, j: isize| i >= 0 && j >= 0 && (i as usize) < w && (j as usize) < h && labels[j as usize * w + i as usize] == largest;
     let mut edge = Vec::new();
     for j in 0..h as isize {
@@ -461,6 +513,7 @@ pub struct LitSphere {
     /// The scene the picture was fitted in (MAT/scene.gltf).
     pub scene: Scene,
     pub disk: Disk,
+    pub outline: Outline,
     /// `None` when the user gave the light.
     pub estimate: Option<LightEstimate>,
     pub light: DVec3,
@@ -472,7 +525,7 @@ pub fn fit(path: &Path, light: Option<DVec3>, opts: &Options, cache: Option<&Cac
     let name = path.display().to_string();
     let original = Painting::read(path)?;
     let (mut painting, _) = shrink(&original, MAX_SIDE);
-    let disk = find_disk(&painting, &name)?;
+    let (disk, outline) = find_disk(&painting, &name)?;
     // Only the sphere is paint: the background (and the rim, which mixes with it) is not.
     for j in 0..painting.height {
         for i in 0..painting.width {
@@ -500,7 +553,7 @@ pub fn fit(path: &Path, light: Option<DVec3>, opts: &Options, cache: Option<&Cac
     let geometry = sampler.geometry(&scene, painting.width, painting.height, Erosion::default())?;
     let view = PaintedView { name: name.clone(), source: format!("{name} (lit sphere)"), geometry, painting };
     let fitted = pipeline::fit(std::slice::from_ref(&view), opts, cache)?;
-    Ok(LitSphere { fitted, view, scene, disk, estimate, light })
+    Ok(LitSphere { fitted, view, scene, disk, outline, estimate, light })
 }
 
 #[cfg(test)]
@@ -534,7 +587,7 @@ mod tests {
             (120, 200, Disk { cx: 60.0, cy: 120.5, r: 33.3 }, 2.0, true),
         ] {
             let p = disk_picture(w, h, d, soft, [1.0; 3], alpha);
-            let found = find_disk(&p, "test").unwrap();
+            let (found, _) = find_disk(&p, "test").unwrap();
             assert!((found.cx - d.cx).abs() < 1.0 && (found.cy - d.cy).abs() < 1.0, "{found:?} vs {d:?}");
             assert!((found.r - d.r).abs() < 1.0, "{found:?} vs {d:?}");
         }
@@ -550,10 +603,11 @@ mod tests {
             *a = [0, 1, 2].map(|c| a[c].max(b[c]));
         }
         assert!(find_disk(&two, "t.png").unwrap_err().to_string().contains("two shapes"));
-        let mut square = Painting::opaque(100, 100, vec![[0.0; 3]; 100 * 100]).unwrap();
+        // (Not square: a square picture without a clear outline is taken as a MatCap.)
+        let mut square = Painting::opaque(120, 100, vec![[0.0; 3]; 120 * 100]).unwrap();
         for j in 20..80 {
             for i in 20..80 {
-                square.pixels[j * 100 + i] = [0.9; 3];
+                square.pixels[j * 120 + i] = [0.9; 3];
             }
         }
         assert!(find_disk(&square, "s.png").unwrap_err().to_string().contains("no disk"));

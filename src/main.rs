@@ -5,7 +5,10 @@ mod cli;
 fn main() -> std::process::ExitCode {
     // A panic is a bug, never the answer to bad input; say so in one line, not a backtrace.
     std::panic::set_hook(Box::new(|info| {
-        eprintln!("error: internal error (please report): {info}");
+        // A panic the library catches (inside the gltf crate) becomes its one-line error.
+        if !brdfpaint::error::panic_is_caught() {
+            eprintln!("error: internal error (please report): {info}");
+        }
     }));
     cli::run()
 }

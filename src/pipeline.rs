@@ -18,6 +18,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::commit::StagedDir;
 use crate::error::{Error, Result};
 use crate::factor::cache::{Cache, Outcome};
 use crate::factor::{defaults, Errors, Fit, Mapping, Prepared, Settings};
@@ -174,19 +175,30 @@ impl Fitted {
         report::image(views, &self.material)
     }
 
-    /// Writes the material and its `report.png` into `out`.
-    pub fn save(&self, views: &[PaintedView], out: &Path) -> Result<PathBuf> {
+    /// The material and its `report.png`, staged for `out`: add files, then commit, and the
+    /// directory appears whole or not at all (the user's other files in it are kept).
+    pub fn stage(&self, views: &[PaintedView], out: &Path) -> Result<StagedDir> {
         let image = self.report(views)?;
-        save_material(&self.material, out)?;
-        let report_path = out.join("report.png");
-        image.write_png(&report_path)?;
-        Ok(report_path)
+        let staged = stage_material(&self.material, out)?;
+        staged.write("report.png", |p| image.write_png(p))?;
+        Ok(staged)
+    }
+
+    /// Writes the material and its `report.png` into `out`; the report's path.
+    pub fn save(&self, views: &[PaintedView], out: &Path) -> Result<PathBuf> {
+        self.stage(views, out)?.commit()?;
+        Ok(out.join("report.png"))
     }
 }
 
 /// Saves a material, naming `out` in errors that do not name a file themselves.
 pub fn save_material(material: &Material, out: &Path) -> Result<()> {
-    material.save(out).map_err(|e| match e {
+    stage_material(material, out)?.commit()
+}
+
+/// A material staged for `out` ([`Material::stage`]).
+fn stage_material(material: &Material, out: &Path) -> Result<StagedDir> {
+    material.stage(out).map_err(|e| match e {
         Error::Io { .. } | Error::Format { .. } => e,
         other => Error::input(format!("{}: {other}", out.display())),
     })

@@ -217,8 +217,13 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
     let light = args.light;
     let lit = litsphere::fit(image, light, opts, Cache::user().as_ref())?;
     let d = &lit.disk;
+    let how = match lit.outline {
+        litsphere::Outline::Alpha => "its alpha",
+        litsphere::Outline::Background => "its background",
+        litsphere::Outline::Inscribed => "none clear: taken as a MatCap, the disk inscribed in the square",
+    };
     println!(
-        "{}: sphere at ({:.1}, {:.1}), radius {:.1} px of {}x{}",
+        "{}: sphere at ({:.1}, {:.1}), radius {:.1} px of {}x{} (outline from {how})",
         image.display(),
         d.cx,
         d.cy,
@@ -240,9 +245,11 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
     }
     let fitted = &lit.fitted;
     let views = std::slice::from_ref(&lit.view);
-    let report_path = fitted.save(views, &args.out)?;
-    let scene_path = args.out.join("scene.gltf");
-    lit.scene.write_gltf(&scene_path)?;
+    // The scene goes into the material directory with it, in one commit.
+    let staged = fitted.stage(views, &args.out)?;
+    staged.write("scene.gltf", |p| lit.scene.write_gltf(p))?;
+    staged.commit()?;
+    let (report_path, scene_path) = (args.out.join("report.png"), args.out.join("scene.gltf"));
     let e = fitted.errors();
     print_mappings(&fitted.solved.fit);
     println!(

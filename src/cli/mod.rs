@@ -83,10 +83,19 @@ pub(crate) fn parse_size(flag: &str, text: &str, range: std::ops::RangeInclusive
 pub fn run() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(c) => c,
-        Err(e) => {
-            let code = if e.use_stderr() { 2 } else { 0 };
+        Err(e) if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            // No subcommand at all: the help is the answer.
             let _ = e.print();
-            return ExitCode::from(code);
+            return ExitCode::from(2);
+        }
+        Err(e) if e.use_stderr() => {
+            eprintln!("{}", one_line_usage_error(&e));
+            return ExitCode::from(2);
+        }
+        Err(e) => {
+            // --help and --version.
+            let _ = e.print();
+            return ExitCode::SUCCESS;
         }
     };
     let result = match cli.command {
@@ -111,3 +120,24 @@ pub fn run() -> ExitCode {
     }
 }
 
+/// clap's message for a usage error as one line: the error and the arguments it names,
+/// without the usage block and tips (DESIGN.md: errors are one readable line).
+fn one_line_usage_error(e: &clap::Error) -> String {
+    let text = e.render().to_string();
+    let mut parts = Vec::new();
+    for line in text.lines() {
+        let line = line.trim();
+        if line.starts_with("Usage:") || line.starts_with("For more information") {
+            break;
+        }
+        if !line.is_empty() && !line.starts_with("tip:") {
+            parts.push(line);
+        }
+    }
+    let message = parts.join(" ");
+    if message.starts_with("error:") {
+        message
+    } else {
+        format!("error: {message}")
+    }
+}

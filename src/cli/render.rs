@@ -171,39 +171,20 @@ pub(super) fn run(args: RenderArgs) -> Result<()> {
     let mut gpu = GpuScene::upload(ctx.gl(), &scene)?;
     let centre = orbit_centre(&scene);
 
-    // Frames go to hidden temporary names and are renamed only when all are written.
-    let mut written: Vec<(PathBuf, PathBuf)> = Vec::new();
-    let result = (|| -> Result<()> {
-        for (k, path) in paths.iter().enumerate() {
-            if let Some(orbit) = orbit {
-                (gpu.camera, gpu.light) = orbit_frame(&scene.camera, &scene.light, centre, orbit, k, frames);
-            }
-            let image = renderer.factored(&gpu, &gpu_shading, width, height)?.to_rgb();
-            let tmp = brdfpaint::util::temp_sibling(path);
-            written.push((tmp.clone(), path.clone()));
-            match format {
-                // Name the real file in errors, not the temporary one.
-                Format::Png => image.write_png(&tmp),
-                Format::Exr => image.write_exr(&tmp),
-            }
-            .map_err(|e| rename_error(e, &tmp, path))?;
+    // Frames go to hidden temporary names and are committed together when all are written:
+    // a sequence appears whole or not at all (brdfpaint::commit::StagedFiles).
+    let mut staged = brdfpaint::commit::StagedFiles::new();
+    for (k, path) in paths.iter().enumerate() {
+        if let Some(orbit) = orbit {
+            (gpu.camera, gpu.light) = orbit_frame(&scene.camera, &scene.light, centre, orbit, k, frames);
         }
-        for (done, (tmp, path)) in written.iter().enumerate() {
-            if let Err(e) = std::fs::rename(tmp, path) {
-                for (_, p) in &written[..done] {
-                    let _ = std::fs::remove_file(p);
-                }
-                return Err(Error::io(path, e));
-            }
-        }
-        Ok(())
-    })();
-    if result.is_err() {
-        for (tmp, _) in &written {
-            let _ = std::fs::remove_file(tmp);
-        }
+        let image = renderer.factored(&gpu, &gpu_shading, width, height)?.to_rgb();
+        staged.add(path, |tmp| match format {
+            Format::Png => image.write_png(tmp),
+            Format::Exr => image.write_exr(tmp),
+        })?;
     }
-    result?;
+    staged.commit()?;
     let what = match orbit {
         None => String::new(),
         Some(Orbit::Camera) => format!(", turntable of {frames} frames"),
@@ -223,15 +204,6 @@ pub(super) fn frame_path(out: &Path, k: usize, frames: usize) -> PathBuf {
     let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let ext = out.extension().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     out.with_file_name(format!("{stem}-{k:0digits$}.{ext}"))
-}
-
-/// An error about a temporary file, told about the file it stands for.
-fn rename_error(e: Error, tmp: &Path, path: &Path) -> Error {
-    match e {
-        Error::Io { source, .. } => Error::io(path, source),
-        Error::Format { reason, .. } => Error::format(path, reason),
-        other => Error::input(other.to_string().replace(&tmp.display().to_string(), &path.display().to_string())),
-    }
 }
 
 #[cfg(test)]

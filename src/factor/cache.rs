@@ -7,9 +7,15 @@
 //! load (faer's factor is not serializable), which still skips the assembly.
 //!
 //! Layout, little endian: magic `BRDFPREP`, `u32` version, `u64` key, `u64` payload length,
-//! payload, `u64` FNV-1a checksum of the payload. A file whose magic, version, key, length or
-//! checksum disagrees, or whose sizes do not fit the system, is stale or corrupt: it is
-//! rebuilt and overwritten, never trusted.
+//! payload, and the SHA-256 of everything before it. A file whose magic, version, key,
+//! length or hash disagrees, whose sizes do not fit the system, or that holds a value that
+//! is not finite, is stale or corrupt: it is rebuilt and overwritten, never trusted.
+//!
+//! The hash is cryptographic so that no accidental or crafted change (version 1 used
+//! FNV-1a, which a crafted file can match) passes as intact; every number is checked finite
+//! as it is read, so a file cannot bring a NaN into a solve. (Whoever can write the cache
+//! directory can still write a consistent file with a wrong system: the directory is the
+//! user's own.)
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -21,9 +27,15 @@ use super::system::{Design, SymCsc};
 use super::{Input, Pattern, Settings};
 use crate::error::{Error, Result};
 use crate::util::Fnv;
+use sha2::{Digest, Sha256};
 
 const MAGIC: &[u8; 8] = b"BRDFPREP";
-const VERSION: u32 = 1;
+/// 2: SHA-256 instead of FNV-1a, values checked finite.
+const VERSION: u32 = 2;
+/// Bytes of the hash at the end of a file.
+const HASH: usize = 32;
+/// Bytes before the payload: magic, version, key, length.
+const HEADER: usize = 8 + 4 + 8 + 8;
 
 /// What the cache did.
 #[derive(Clone, Debug, PartialEq)]
@@ -126,22 +138,21 @@ fn store(prepared: &Prepared, key: u64) -> Vec<u8> {
         }
     }
     let payload = p.0;
-    let mut out = Vec::with_capacity(payload.len() + 36);
+    let mut out = Vec::with_capacity(HEADER + payload.len() + HASH);
     out.extend_from_slice(MAGIC);
     out.extend_from_slice(&VERSION.to_le_bytes());
     out.extend_from_slice(&key.to_le_bytes());
     out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
     out.extend_from_slice(&payload);
-    let mut h = Fnv::new();
-    h.write(&payload);
-    out.extend_from_slice(&h.finish().to_le_bytes());
+    let hash = Sha256::digest(&out);
+    out.extend_from_slice(&hash);
     out
 }
 
 /// Parse and check a cache file; the error is why it cannot be used.
 fn load(bytes: &[u8], key: u64, pattern: &Pattern, settings: &Settings) -> std::result::Result<Prepared, String> {
     let start = Instant::now();
-    if bytes.len() < 36 || &bytes[..8] != MAGIC {
+    if bytes.len() < HEADER + HASH || &bytes[..8] != MAGIC {
         return Err("not a prepared-system file".into());
     }
     let mut r = Reader(&bytes[8..]);
@@ -151,16 +162,15 @@ fn load(bytes: &[u8], key: u64, pattern: &Pattern, settings: &Settings) -> std::
     if r.u64()? != key {
         return Err("key does not match".into());
     }
-    let len = r.u64()? as usize;
-    if r.0.len() != len.checked_add(8).ok_or("bad length")? {
+    let len = usize::try_from(r.u64()?).map_err(|_| "bad length")?;
+    if r.0.len() != len.checked_add(HASH).ok_or("bad length")? {
         return Err("truncated or oversized".into());
     }
-    let (payload, tail) = r.0.split_at(len);
-    let mut h = Fnv::new();
-    h.write(payload);
-    if Reader(tail).u64()? != h.finish() {
+    let (hashed, hash) = bytes.split_at(bytes.len() - HASH);
+    if Sha256::digest(hashed).as_slice() != hash {
         return Err("checksum mismatch".into());
     }
+    let payload = &hashed[HEADER..];
     let design = Design::new(pattern, settings).map_err(|e| e.to_string())?;
     let n = design.n;
     let mut r = Reader(payload);
@@ -232,8 +242,13 @@ impl Reader<'_> {
     fn u64(&mut self) -> std::result::Result<u64, String> {
         self.take::<8>().map(u64::from_le_bytes)
     }
+    /// A finite `f64`: a NaN or infinity in a cached system is corruption.
     fn f64(&mut self) -> std::result::Result<f64, String> {
-        self.take::<8>().map(f64::from_le_bytes)
+        let x = self.take::<8>().map(f64::from_le_bytes)?;
+        if !x.is_finite() {
+            return Err("non-finite value".into());
+        }
+        Ok(x)
     }
     /// A square n × n matrix, column-major, preceded by its size.
     fn mat(&mut self, n: usize) -> std::result::Result<Mat<f64>, String> {
@@ -285,6 +300,53 @@ mod tests {
         // Another pattern is another file.
         let other = SphereView::new(DVec3::new(0.5, 0.5, 1.0), 40).pattern();
         assert_ne!(cache.path(&other, settings), path);
+    }
+
+    /// A crafted file: a valid FNV-1a checksum of version 1, or a valid SHA-256, over NaN
+    /// entries, is rebuilt, never used.
+    #[test]
+    fn crafted_files_with_valid_checksums_and_nans_are_rebuilt() {
+        let dir = tempfile::tempdir().unwrap();
+        let cache = Cache::new(dir.path());
+        let settings = Settings::default();
+        let pattern = SphereView::new(DVec3::new(-0.5, 0.5, 1.0), 40).pattern();
+        assert_eq!(cache.prepare(&pattern, &settings).unwrap().1, Outcome::Miss);
+        let path = cache.path(&pattern, &settings);
+        let good = std::fs::read(&path).unwrap();
+        let mut payload = good[HEADER..good.len() - HASH].to_vec();
+        // prepare_s, the solver tag (dense) and the matrix size come first; then entries.
+        assert_eq!(u64::from_le_bytes(payload[8..16].try_into().unwrap()), 0, "a dense system");
+        for k in 0..4 {
+            payload[24 + 8 * k..32 + 8 * k].copy_from_slice(&f64::NAN.to_le_bytes());
+        }
+        let header = |version: u32| {
+            let mut h = good[..HEADER].to_vec();
+            h[8..12].copy_from_slice(&version.to_le_bytes());
+            h
+        };
+        // Version 1: FNV-1a of the payload at the end.
+        let mut v1 = header(1);
+        v1.extend_from_slice(&payload);
+        let mut fnv = Fnv::new();
+        fnv.write(&payload);
+        v1.extend_from_slice(&fnv.finish().to_le_bytes());
+        std::fs::write(&path, &v1).unwrap();
+        assert_eq!(cache.prepare(&pattern, &settings).unwrap().1, Outcome::Rebuilt("written by another version".into()));
+        // Version 2 with a correct SHA-256 of the NaN payload.
+        let mut v2 = header(VERSION);
+        v2.extend_from_slice(&payload);
+        let hash = Sha256::digest(&v2);
+        v2.extend_from_slice(&hash);
+        std::fs::write(&path, &v2).unwrap();
+        assert_eq!(cache.prepare(&pattern, &settings).unwrap().1, Outcome::Rebuilt("non-finite value".into()));
+        // A scaled matrix under the old hash: the hash catches it.
+        let mut scaled = good.clone();
+        let at = HEADER + 24;
+        let x = f64::from_le_bytes(scaled[at..at + 8].try_into().unwrap()) * 2.0;
+        scaled[at..at + 8].copy_from_slice(&x.to_le_bytes());
+        std::fs::write(&path, &scaled).unwrap();
+        assert_eq!(cache.prepare(&pattern, &settings).unwrap().1, Outcome::Rebuilt("checksum mismatch".into()));
+        assert_eq!(cache.prepare(&pattern, &settings).unwrap().1, Outcome::Hit, "rebuilt, then used");
     }
 
     #[test]

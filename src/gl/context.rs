@@ -135,7 +135,18 @@ impl HeadlessContext {
     }
 
     /// A context on the device `preference` picks, with the API `api` asks for.
+    ///
+    /// Every failure says which Debian packages to install ([`missing_gl_message`]): on a
+    /// working machine none happens, and on a fresh one the cause is almost always a
+    /// missing libEGL, Mesa EGL vendor or Mesa driver.
     pub fn with_options(preference: DevicePreference, api: ApiPreference) -> Result<Self> {
+        Self::try_options(preference, api).map_err(|e| match e {
+            Error::Gl(detail) => Error::Gl(missing_gl_message(&detail)),
+            other => other,
+        })
+    }
+
+    fn try_options(preference: DevicePreference, api: ApiPreference) -> Result<Self> {
         let devices: Vec<Device> =
             Device::query_devices().map_err(|e| Error::Gl(format!("cannot list EGL devices: {e}")))?.collect();
         let is_software = |d: &Device| d.extensions().contains("EGL_MESA_device_software");
@@ -273,6 +284,22 @@ impl HeadlessContext {
     }
 }
 
+/// The Debian packages headless rendering needs: the EGL loader, Mesa's EGL vendor, and
+/// Mesa's drivers (llvmpipe).
+pub const GL_PACKAGES: &str = "libegl1 libegl-mesa0 libgl1-mesa-dri";
+
+/// The one-line message for a headless context that could not be made: what failed, and
+/// the command that installs what is usually missing. `detail` is the EGL failure, e.g.
+/// "cannot list EGL devices: not found" (no libEGL), "Enumerating devices is not supported
+/// by the EGL instance" (no Mesa EGL vendor), or a failed display or context on the
+/// software device (no Mesa driver).
+pub fn missing_gl_message(detail: &str) -> String {
+    let detail = detail.split_whitespace().collect::<Vec<_>>().join(" ");
+    format!(
+        "cannot create a headless GL context ({detail}); rendering needs Mesa's EGL and GL driver (Debian packages {GL_PACKAGES}): sudo apt-get install {GL_PACKAGES}"
+    )
+}
+
 impl std::fmt::Debug for HeadlessContext {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("HeadlessContext")
@@ -280,5 +307,26 @@ impl std::fmt::Debug for HeadlessContext {
             .field("renderer", &self.renderer)
             .field("device", &self.device)
             .finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The errors seen on machines without the packages (issue 14) each become one line
+    /// naming the packages and the install command.
+    #[test]
+    fn missing_libraries_name_the_packages_to_install() {
+        for detail in [
+            "cannot list EGL devices: not found",
+            "cannot list EGL devices: Enumerating devices is not supported by the EGL instance",
+            "cannot open an EGL display on unnamed device (unknown vendor): [3001] initialization failed\nMESA-LOADER: failed to open swrast",
+        ] {
+            let m = Error::Gl(missing_gl_message(detail)).to_string();
+            assert!(!m.contains('\n'), "{m}");
+            assert!(m.ends_with("sudo apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri"), "{m}");
+            assert!(m.starts_with("OpenGL: cannot create a headless GL context (cannot "), "{m}");
+        }
     }
 }

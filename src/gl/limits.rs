@@ -79,6 +79,9 @@ impl Limits {
     }
 }
 
+// Image files are refused from their header above the renderer's size (crate::images).
+const _: () = assert!(Limits::MAX_PIXELS == crate::images::MAX_PIXELS);
+
 /// Drains `glGetError`; any error becomes [`Error::Gl`] naming `what` was being done.
 pub fn check_error(gl: &Gl, what: &str) -> Result<()> {
     let mut errors = Vec::new();

@@ -22,7 +22,7 @@ mod limits;
 mod objects;
 mod shader;
 
-pub use context::{ApiPreference, DevicePreference, Gl, HeadlessContext};
+pub use context::{missing_gl_message, ApiPreference, DevicePreference, Gl, HeadlessContext, GL_PACKAGES};
 pub use limits::{check_error, Limits};
 pub use objects::{Buffer, Filter, Framebuffer, TexelFormat, Texture2D, VertexArray};
 pub use shader::{header, Program, Shader, Stage};

@@ -6,14 +6,19 @@
 //! filtering reads it at texel coordinate $(t(M-1) + 0.5)/M$. Values are linear.
 //! Coefficient textures hold one coefficient per colour channel.
 //!
-//! Saving is atomic: everything is written into a temporary sibling directory that is then
-//! renamed into place, so a failed save leaves the previous material untouched.
+//! Saving is whole-or-nothing ([`crate::commit`]): everything is written into a temporary
+//! sibling directory that then replaces the old one in one atomic exchange, so a failed or
+//! killed save leaves the previous material untouched, and the user's other files in the
+//! directory are kept.
 
+use std::collections::HashSet;
+use std::ffi::{OsStr, OsString};
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
 use super::{Coefficients, Factor, Kind, Material, Provenance, Term};
+use crate::commit::StagedDir;
 use crate::error::{Error, Result};
 use crate::factor::{FactorSpec, LogMap};
 use crate::images::Rgb;
@@ -22,6 +27,8 @@ use crate::images::Rgb;
 pub const FORMAT: &str = "brdfpaint-material";
 /// The version this build writes and reads.
 pub const VERSION: u32 = 1;
+/// Largest material.json read (the provenance is the only part that grows).
+const MAX_JSON_BYTES: u64 = 16 << 20;
 
 #[derive(Serialize, Deserialize)]
 struct FileFactor {
@@ -62,16 +69,25 @@ struct Header {
 
 impl Material {
     /// Save into directory `dir` (created; an existing material there is replaced only once
-    /// the new one is complete).
+    /// the new one is complete, keeping the user's other files: [`Material::stage`]).
     pub fn save(&self, dir: &Path) -> Result<()> {
+        self.stage(dir)?.commit()
+    }
+
+    /// Writes the material into a staged directory that becomes `dir` when committed, so a
+    /// caller can add its own files (a fit's report.png) before the material appears: it
+    /// appears whole, with them, or not at all ([`crate::commit`]).
+    ///
+    /// `dir` must be missing, an empty directory or a material directory; anything else (a
+    /// file, a link, a directory of other things) is refused with one line. In a material
+    /// directory only the tool's files are replaced (material.json, its textures,
+    /// report.png); the user's other files there (notes, paintings) are kept.
+    pub fn stage(&self, dir: &Path) -> Result<StagedDir> {
         self.validate(dir)?;
-        let tmp = crate::util::temp_sibling(dir);
-        std::fs::create_dir_all(&tmp).map_err(|e| Error::io(&tmp, e))?;
-        let result = self.write_into(&tmp).and_then(|()| replace_dir(&tmp, dir));
-        if result.is_err() {
-            let _ = std::fs::remove_dir_all(&tmp);
-        }
-        result
+        let ours = check_target(dir)?;
+        let staged = StagedDir::new(dir, Box::new(move |name| ours.contains(name) || is_texture_name(name)))?;
+        staged.fill(|tmp| self.write_into(tmp))?;
+        Ok(staged)
     }
 
     fn write_into(&self, dir: &Path) -> Result<()> {
@@ -113,7 +129,8 @@ impl Material {
         } else {
             (path.parent().map(Path::to_path_buf).unwrap_or_default(), path.to_path_buf())
         };
-        let text = std::fs::read_to_string(&json_path).map_err(|e| Error::io(&json_path, e))?;
+        let bytes = crate::fsio::read_regular(&json_path, MAX_JSON_BYTES)?;
+        let text = String::from_utf8(bytes).map_err(|_| Error::format(&json_path, "not a material: not UTF-8 text"))?;
         let header: Header =
             serde_json::from_str(&text).map_err(|e| Error::format(&json_path, format!("not a material: {e}")))?;
         if header.format.as_deref() != Some(FORMAT) {
@@ -204,29 +221,65 @@ impl Material {
     }
 }
 
-/// A texture named in material.json, which must stay inside the material directory.
+/// A texture named in material.json, which must stay inside the material directory: a
+/// plain file name, and not a symbolic link out of it (README, "File access").
 fn texture_path(dir: &Path, json: &Path, name: &str) -> Result<PathBuf> {
     let p = Path::new(name);
     if p.is_absolute() || p.components().any(|c| !matches!(c, std::path::Component::Normal(_))) {
         return Err(Error::format(json, format!("texture path '{name}' must be a plain file name")));
     }
-    Ok(dir.join(p))
+    let dir = if dir.as_os_str().is_empty() { Path::new(".") } else { dir };
+    crate::fsio::resolve_inside(dir, name).map_err(|refused| match refused {
+        crate::fsio::Refused::Missing(path, e) => Error::io(path, e),
+        crate::fsio::Refused::Outside(reason) => Error::format(json, format!("texture {reason}")),
+    })
 }
 
-/// Move a finished temporary directory into place, replacing any previous one.
-fn replace_dir(tmp: &Path, dir: &Path) -> Result<()> {
-    if dir.exists() {
-        if !dir.join("material.json").exists() && std::fs::read_dir(dir).is_ok_and(|mut d| d.next().is_some()) {
-            return Err(Error::input(format!(
-                "{} exists and is not a material directory; not overwriting it",
-                dir.display()
-            )));
-        }
-        crate::util::swap_dir(tmp, dir)
-    } else {
-        if let Some(parent) = dir.parent().filter(|p| !p.as_os_str().is_empty()) {
-            std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
-        }
-        std::fs::rename(tmp, dir).map_err(|e| Error::io(dir, e))
+/// Whether a file name is one the tool writes for a term's table or coefficients
+/// (`term{k}-…exr`).
+fn is_texture_name(name: &OsStr) -> bool {
+    let name = name.to_string_lossy();
+    name.strip_prefix("term")
+        .and_then(|rest| rest.split_once('-'))
+        .is_some_and(|(k, _)| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
+        && name.ends_with(".exr")
+}
+
+/// Checks that a material may be written at `dir`, and returns the names of the files there
+/// that are the tool's own (material.json, the textures it names, report.png, and the
+/// scene.gltf a lit-sphere fit writes), which a new material replaces. Files, links and
+/// directories of other things are refused.
+fn check_target(dir: &Path) -> Result<HashSet<OsString>> {
+    let mut ours: HashSet<OsString> = ["material.json", "report.png", "scene.gltf"].iter().map(OsString::from).collect();
+    let refuse = || {
+        Err(Error::input(format!(
+            "{} exists and is not a material directory; not overwriting it",
+            dir.display()
+        )))
+    };
+    let meta = match std::fs::symlink_metadata(dir) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(ours),
+        Err(e) => return Err(Error::io(dir, e)),
+    };
+    if !meta.is_dir() {
+        return refuse();
     }
+    if crate::commit::output_dir_is_fresh(dir)? {
+        return Ok(ours);
+    }
+    let json = dir.join("material.json");
+    if !std::fs::symlink_metadata(&json).is_ok_and(|m| m.is_file()) {
+        return refuse();
+    }
+    // The textures the old material names are ours too, whatever their names.
+    if let Ok(text) = crate::fsio::read_regular(&json, MAX_JSON_BYTES) {
+        if let Ok(file) = serde_json::from_slice::<FileMaterial>(&text) {
+            for t in file.terms {
+                ours.extend(t.factors.into_iter().map(|f| OsString::from(f.texture)));
+                ours.extend(t.coefficients.map(|c| OsString::from(c.texture)));
+            }
+        }
+    }
+    Ok(ours)
 }

@@ -79,17 +79,16 @@ impl Sheet {
     }
 
     /// Writes the sheet and `scene` into `dir` ([`SHEET_FILES`]). Everything is written into
-    /// a temporary sibling directory first; a new (or empty) `dir` is then that directory
-    /// renamed, and an existing sheet directory gets the four files renamed into it (other
-    /// files there, such as paintings, are kept). Anything else at `dir` is refused, and a
-    /// failure leaves `dir` as it was.
+    /// a temporary sibling directory first, which then replaces `dir` in one atomic step
+    /// ([`crate::commit::StagedDir`]): the four files appear together or not at all, and
+    /// other files there, such as paintings, are kept. Anything else at `dir` is refused, and
+    /// a failure leaves `dir` as it was.
     pub fn save(&self, scene: &Scene, dir: &Path) -> Result<()> {
-        let target = Target::of(dir)?;
-        let tmp = crate::util::temp_sibling(dir);
-        std::fs::create_dir_all(&tmp).map_err(|e| Error::io(&tmp, e))?;
-        let result = self.write_into(scene, &tmp).and_then(|()| target.commit(&tmp, dir));
-        let _ = std::fs::remove_dir_all(&tmp);
-        result
+        Target::of(dir)?;
+        // The four files appear together in one atomic step, the user's other files kept.
+        let staged = crate::commit::StagedDir::new(dir, Box::new(|name| SHEET_FILES.iter().any(|f| name == *f)))?;
+        staged.fill(|tmp| self.write_into(scene, tmp))?;
+        staged.commit()
     }
 
     fn write_into(&self, scene: &Scene, dir: &Path) -> Result<()> {
@@ -131,25 +130,6 @@ impl Target {
         }
     }
 
-    /// Moves the finished files from `tmp` into `dir`.
-    fn commit(self, tmp: &Path, dir: &Path) -> Result<()> {
-        // The directory may have changed since it was checked.
-        if Target::of(dir)? != self {
-            return Err(Error::input(format!(
-                "{} changed while the sheet was drawn; not overwriting it",
-                dir.display()
-            )));
-        }
-        match self {
-            Target::Fresh => crate::util::move_into_fresh(tmp, dir),
-            Target::Sheet => {
-                for f in SHEET_FILES {
-                    std::fs::rename(tmp.join(f), dir.join(f)).map_err(|e| Error::io(dir.join(f), e))?;
-                }
-                Ok(())
-            }
-        }
-    }
 }
 
 #[cfg(test)]

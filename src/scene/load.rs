@@ -4,9 +4,13 @@
 //! scene's textures play no part in sampling or rendering here), but a texture file the scene
 //! names must exist, so that a broken scene is caught when it is loaded.
 //!
-//! Nothing in a file can make the loader panic: every accessor is checked against its buffer
-//! before it is read, the node hierarchy is checked to be a forest, and every failure is an
-//! [`Error`] naming the file.
+//! Nothing in a file can make the loader panic: what the gltf crate would panic on is checked
+//! before it sees the file (and any panic left inside it is caught at this boundary), every
+//! accessor is checked against its buffer before it is read, the node hierarchy is checked to
+//! be a forest, and every failure is an [`Error`] naming the file.
+//!
+//! Files a scene names are read under the file-access policy ([`crate::fsio`], README "File
+//! access"): regular files inside the scene's directory only, with a size cap.
 
 use std::path::{Path, PathBuf};
 
@@ -84,14 +88,26 @@ fn extension_is_harmless(name: &str) -> bool {
 impl Loaded {
     fn read(path: &Path) -> Result<Loaded> {
         check_extension(path)?;
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let bytes = crate::fsio::read_regular(path, crate::fsio::MAX_SCENE_BYTES)?;
         let base = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
         Loaded::parse(path, &bytes, Some(base))
     }
 
     /// Parses the bytes of a glTF file. `path` names it in errors; external buffers and images
-    /// are looked up in `base`, and are an error when `base` is `None`.
+    /// are looked up in `base` under the file-access policy ([`crate::fsio`]), and are an
+    /// error when `base` is `None`.
+    ///
+    /// The gltf crate panics on a few malformed files (an out-of-range POSITION accessor in
+    /// its validation, an image without a source). Those are checked for first; any other
+    /// panic inside it is caught here and reported as a malformed file, never a crash.
     fn parse(path: &Path, bytes: &[u8], base: Option<&Path>) -> Result<Loaded> {
+        match crate::error::catch_panic(|| Loaded::parse_unguarded(path, bytes, base)) {
+            Ok(loaded) => loaded,
+            Err(panic) => Err(Error::format(path, format!("malformed glTF (the glTF reader failed: {panic})"))),
+        }
+    }
+
+    fn parse_unguarded(path: &Path, bytes: &[u8], base: Option<&Path>) -> Result<Loaded> {
         if bytes.is_empty() {
             return Err(Error::format(path, "empty file"));
         }
@@ -99,18 +115,19 @@ impl Loaded {
         // Required extensions are checked before validation, which would only say
         // "Unsupported extension".
         let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(corrupt)?;
-        let document = gltf.document;
+        let gltf::Gltf { document, blob } = gltf;
         if let Some(ext) = document.extensions_required().find(|e| !extension_is_harmless(e)) {
             return Err(Error::format(
                 path,
                 format!("requires the unsupported glTF extension {ext} (re-export the file without it, e.g. with Blender)"),
             ));
         }
-        let document = gltf::Document::from_json(document.into_json())
+        let json = document.into_json();
+        check_before_validation(&json).map_err(|reason| Error::format(path, reason))?;
+        let document = gltf::Document::from_json(json)
             .map_err(|e| Error::format(path, format!("not a valid glTF 2.0 file: {e}")))?;
-        check_external_files(path, base, &document)?;
-        let buffers = gltf::import_buffers(&document, base, gltf.blob)
-            .map_err(|e| Error::format(path, format!("cannot read buffer data: {e}")))?;
+        check_images(path, base, &document)?;
+        let buffers = read_buffers(path, base, &document, blob)?;
 
         let graph = NodeGraph::new(path, &document)?;
         let mut walker = Walker {
@@ -151,33 +168,117 @@ fn check_extension(path: &Path) -> Result<()> {
     }
 }
 
-/// Every buffer and image file the document names must exist in `base`; the error names the
-/// missing one.
-fn check_external_files(path: &Path, base: Option<&Path>, document: &gltf::Document) -> Result<()> {
-    let buffer_uris = document.buffers().filter_map(|b| match b.source() {
-        gltf::buffer::Source::Uri(uri) => Some(("buffer", uri)),
-        gltf::buffer::Source::Bin => None,
-    });
-    let image_uris = document.images().filter_map(|i| match i.source() {
-        gltf::image::Source::Uri { uri, .. } => Some(("texture", uri)),
-        gltf::image::Source::View { .. } => None,
-    });
-    for (what, uri) in buffer_uris.chain(image_uris) {
-        if uri.starts_with("data:") {
-            continue;
+/// What gltf's validation would index without checking, or what gltf's accessors would
+/// unwrap: a POSITION accessor index out of range, an image with neither a uri nor a
+/// bufferView, an image in a bufferView without a mimeType.
+fn check_before_validation(json: &gltf::json::Root) -> std::result::Result<(), String> {
+    use gltf::json::validation::Checked;
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            if let Some(index) = primitive.attributes.get(&Checked::Valid(gltf::Semantic::Positions)) {
+                if index.value() >= json.accessors.len() {
+                    return Err(format!(
+                        "mesh {m} primitive {p}: POSITION names accessor {} of {}",
+                        index.value(),
+                        json.accessors.len()
+                    ));
+                }
+            }
         }
-        if uri.contains("://") {
-            return Err(Error::format(path, format!("{what} {uri}: only local files and data: URIs are supported")));
-        }
-        let Some(base) = base else {
-            return Err(Error::format(path, format!("{what} {uri}: external files are not supported here")));
-        };
-        let file: PathBuf = base.join(percent_decode(uri));
-        if let Err(e) = std::fs::metadata(&file) {
-            return Err(Error::format(path, format!("missing {what} file {}: {e}", file.display())));
+    }
+    for (i, image) in json.images.iter().enumerate() {
+        match (&image.uri, &image.buffer_view) {
+            (None, None) => return Err(format!("image {i} has neither a uri nor a bufferView")),
+            (Some(_), Some(_)) => return Err(format!("image {i} has both a uri and a bufferView")),
+            (None, Some(_)) if image.mime_type.is_none() => {
+                return Err(format!("image {i} is stored in a bufferView but has no mimeType"))
+            }
+            _ => {}
         }
     }
     Ok(())
+}
+
+/// Every image file the document names must be a readable file inside `base` (it is not
+/// decoded: textures play no part here); the error names the file.
+fn check_images(path: &Path, base: Option<&Path>, document: &gltf::Document) -> Result<()> {
+    for (i, image) in document.as_json().images.iter().enumerate() {
+        let Some(uri) = image.uri.as_deref() else { continue };
+        if uri.starts_with("data:") {
+            continue;
+        }
+        let file = external_file(path, base, "texture", uri)?;
+        crate::fsio::check_regular(&file, u64::MAX).map_err(|e| Error::format(path, format!("image {i}: {e}")))?;
+    }
+    Ok(())
+}
+
+/// The file a uri names, under the file-access policy: a local file inside `base` (README,
+/// "File access"). `what` is "buffer" or "texture".
+fn external_file(path: &Path, base: Option<&Path>, what: &str, uri: &str) -> Result<PathBuf> {
+    if uri.contains("://") {
+        return Err(Error::format(path, format!("{what} {uri}: only local files and data: URIs are supported")));
+    }
+    let Some(base) = base else {
+        return Err(Error::format(path, format!("{what} {uri}: external files are not supported here")));
+    };
+    crate::fsio::resolve_inside(base, &percent_decode(uri)).map_err(|refused| match refused {
+        crate::fsio::Refused::Missing(file, e) => {
+            Error::format(path, format!("missing {what} file {}: {e}", file.display()))
+        }
+        crate::fsio::Refused::Outside(reason) => Error::format(path, format!("{what} {uri}: {reason}")),
+    })
+}
+
+/// The data of every buffer: the GLB binary chunk, a data: URI, or a file read under the
+/// file-access policy (regular, inside `base`, at most [`crate::fsio::MAX_SCENE_BYTES`]).
+/// Each is checked to hold the bytes it declares and padded to a multiple of 4, as gltf's
+/// reader expects.
+fn read_buffers(
+    path: &Path,
+    base: Option<&Path>,
+    document: &gltf::Document,
+    mut blob: Option<Vec<u8>>,
+) -> Result<Vec<gltf::buffer::Data>> {
+    let mut out = Vec::new();
+    for buffer in document.buffers() {
+        let i = buffer.index();
+        let what = format!("buffer {i}");
+        let mut data = match buffer.source() {
+            gltf::buffer::Source::Bin => blob
+                .take()
+                .ok_or_else(|| Error::format(path, format!("{what} has no uri and there is no GLB binary chunk for it")))?,
+            gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
+                decode_data_uri(uri).map_err(|reason| Error::format(path, format!("{what}: {reason}")))?
+            }
+            gltf::buffer::Source::Uri(uri) => {
+                let file = external_file(path, base, "buffer", uri)?;
+                crate::fsio::read_regular(&file, crate::fsio::MAX_SCENE_BYTES)
+                    .map_err(|e| Error::format(path, format!("{what}: {e}")))?
+            }
+        };
+        if data.len() < buffer.length() {
+            return Err(Error::format(
+                path,
+                format!("{what} holds {} bytes of the {} it declares (truncated?)", data.len(), buffer.length()),
+            ));
+        }
+        while data.len() % 4 != 0 {
+            data.push(0);
+        }
+        out.push(gltf::buffer::Data(data));
+    }
+    Ok(out)
+}
+
+/// The bytes of a `data:[<type>][;base64],<data>` URI.
+fn decode_data_uri(uri: &str) -> std::result::Result<Vec<u8>, String> {
+    let (header, data) = uri.split_once(',').ok_or("a data: URI without a comma")?;
+    if header.ends_with(";base64") {
+        base64::decode(data).map_err(|e| format!("invalid base64 in its data: URI ({e})"))
+    } else {
+        Ok(percent_decode(data).into_bytes())
+    }
 }
 
 /// Decodes %XX escapes of a relative URI (glTF URIs are percent-encoded).

@@ -1,0 +1,264 @@
+//! Issue 13, "trust": crafted glTF files that made the gltf crate panic, the file-access
+//! policy (README, "File access"), outputs that must not replace user data, and usage errors
+//! in one line. Each case asserts the exit code, the one-line message and what is on disk.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use brdfpaint::brdf::Merl;
+use brdfpaint::material::Material;
+use brdfpaint::scene::{frame, sphere_mesh, Preset, Scene};
+use serde_json::{json, Value};
+
+mod cli_common;
+
+use cli_common::{brdfpaint, Run};
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// A sphere scene as a .gltf whose buffer is the file `scene.bin` beside it; returns the
+/// JSON for the caller to edit and write back with [`write_json`].
+fn external_scene(dir: &Path) -> Value {
+    let path = dir.join("inline.gltf");
+    frame(vec![sphere_mesh(16, 8)], &Preset::default(), 1.0).write_gltf(&path).unwrap();
+    let mut json: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    std::fs::remove_file(&path).unwrap();
+    let uri = json["buffers"][0]["uri"].as_str().unwrap().to_string();
+    let data = base64::decode(uri.split_once(',').unwrap().1).unwrap();
+    std::fs::write(dir.join("scene.bin"), data).unwrap();
+    json["buffers"][0]["uri"] = "scene.bin".into();
+    json
+}
+
+fn write_json(path: &Path, json: &Value) -> PathBuf {
+    std::fs::write(path, serde_json::to_string(json).unwrap()).unwrap();
+    path.to_path_buf()
+}
+
+/// Runs `brdfpaint` with a time limit: a run that hangs (a FIFO read) is killed and fails
+/// the test.
+fn run_with_limit(args: &[&str], limit: Duration) -> Run {
+    let cache = tempfile::tempdir().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_brdfpaint"))
+        .args(args)
+        .env("BRDFPAINT_CACHE", cache.path())
+        .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > limit {
+            child.kill().unwrap();
+            let _ = child.wait();
+            panic!("brdfpaint {args:?} hung for {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let out = child.wait_with_output().unwrap();
+    Run {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&out.stdout).into(),
+        stderr: String::from_utf8_lossy(&out.stderr).into(),
+    }
+}
+
+/// Exit 1 and one line on stderr that contains every one of `parts`.
+fn assert_one_line_error(r: &Run, parts: &[&str]) {
+    assert_eq!(r.code, 1, "{}", r.stderr);
+    assert_eq!(r.stderr.lines().count(), 1, "{}", r.stderr);
+    assert!(r.stderr.starts_with("error: ") && !r.stderr.contains("internal error"), "{}", r.stderr);
+    for p in parts {
+        assert!(r.stderr.contains(p), "{p:?} not in {}", r.stderr);
+    }
+}
+
+/// The three malformed files on which the gltf crate panicked (issue 13, item 1) are one-line
+/// errors naming the file, from the library and from `sheet`, and nothing is written.
+#[test]
+fn gltf_files_that_panicked_the_reader_are_one_line_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = external_scene(dir.path());
+    let cases: Vec<(&str, Box<dyn Fn(&mut Value)>, &str)> = vec![
+        (
+            "position-out-of-range.gltf",
+            Box::new(|j| j["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 999.into()),
+            "POSITION names accessor 999",
+        ),
+        ("image-without-source.gltf", Box::new(|j| j["images"] = json!([{}])), "neither a uri nor a bufferView"),
+        (
+            "image-view-without-mime.gltf",
+            Box::new(|j| j["images"] = json!([{ "bufferView": 0 }])),
+            "has no mimeType",
+        ),
+    ];
+    for (name, edit, reason) in cases {
+        let mut json = base.clone();
+        edit(&mut json);
+        let path = write_json(&dir.path().join(name), &json);
+        let e = Scene::load(&path).unwrap_err().to_string();
+        assert!(e.contains(name) && e.contains(reason) && !e.contains('\n'), "{e}");
+        let out = dir.path().join(format!("sheet-{name}"));
+        let r = brdfpaint(dir.path(), &["sheet", "--scene", s(&path), "--out", s(&out)]);
+        assert_one_line_error(&r, &[name, reason]);
+        assert!(!out.exists(), "{name}: nothing is written");
+    }
+}
+
+/// A scene reads only regular files inside its own directory: `..`, absolute paths (also
+/// percent-encoded), symbolic links out, devices and FIFOs are refused with one line, and a
+/// FIFO never hangs the run (issue 13, item 2).
+#[test]
+fn a_scene_reads_only_regular_files_inside_its_directory() {
+    let root = tempfile::tempdir().unwrap();
+    let dir = root.path().join("scene");
+    std::fs::create_dir(&dir).unwrap();
+    let base = external_scene(&dir);
+    let good = write_json(&dir.join("good.gltf"), &base);
+    Scene::load(&good).unwrap();
+    // The same bytes outside the scene's directory: following any of these would succeed.
+    let outside = root.path().join("outside.bin");
+    std::fs::copy(dir.join("scene.bin"), &outside).unwrap();
+    std::os::unix::fs::symlink(&outside, dir.join("link.bin")).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", dir.join("zero.bin")).unwrap();
+    let fifo = dir.join("fifo.bin");
+    let c = std::ffi::CString::new(s(&fifo)).unwrap();
+    // SAFETY: a valid NUL-terminated path.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+    let abs = s(&outside).to_string();
+    let cases = [
+        ("../outside.bin".to_string(), "leads out of its directory"),
+        ("%2e%2e/outside.bin".to_string(), "leads out of its directory"),
+        ("..%2Foutside.bin".to_string(), "leads out of its directory"),
+        (abs.clone(), "absolute path"),
+        (abs.replace('/', "%2F"), "absolute path"),
+        ("/dev/zero".to_string(), "absolute path"),
+        ("link.bin".to_string(), "symbolic link"),
+        ("zero.bin".to_string(), "symbolic link"),
+        ("fifo.bin".to_string(), "is a FIFO"),
+    ];
+    for (k, (uri, reason)) in cases.iter().enumerate() {
+        let mut json = base.clone();
+        json["buffers"][0]["uri"] = uri.as_str().into();
+        let name = format!("case{k}.gltf");
+        let path = write_json(&dir.join(&name), &json);
+        let e = Scene::load(&path).unwrap_err().to_string();
+        assert!(e.contains(&name) && e.contains(reason) && !e.contains('\n'), "{uri}: {e}");
+        // The sheet would copy the buffer into its scene.gltf: it refuses, writes nothing,
+        // and does not hang on the FIFO.
+        let out = root.path().join(format!("sheet{k}"));
+        let r = run_with_limit(&["sheet", "--scene", s(&path), "--out", s(&out)], Duration::from_secs(60));
+        assert_one_line_error(&r, &[&name, reason]);
+        assert!(!out.exists(), "{uri}: nothing is written");
+    }
+    // A texture named by the scene obeys the same rules.
+    let mut json = base.clone();
+    json["images"] = json!([{ "uri": "../outside.bin" }]);
+    let e = Scene::load(write_json(&dir.join("tex.gltf"), &json)).unwrap_err().to_string();
+    assert!(e.contains("tex.gltf") && e.contains("leads out"), "{e}");
+    // A FIFO or device given directly as the scene or a painting is refused, not read.
+    let e = Scene::load(dir.join("fifo.gltf").as_path()).unwrap_err().to_string();
+    assert!(e.contains("fifo.gltf"), "{e}");
+    std::fs::rename(&fifo, dir.join("fifo.gltf")).unwrap();
+    let e = Scene::load(dir.join("fifo.gltf").as_path()).unwrap_err().to_string();
+    assert!(e.contains("fifo.gltf: is a FIFO"), "{e}");
+    let r = run_with_limit(
+        &["fit", "--scene", s(&good), "--image", s(&dir.join("fifo.gltf")), "--out", s(&root.path().join("m"))],
+        Duration::from_secs(60),
+    );
+    assert_one_line_error(&r, &["fifo.gltf: is a FIFO"]);
+}
+
+/// A material's textures may not be symbolic links out of its directory.
+#[test]
+fn material_textures_do_not_follow_links_out() {
+    let root = tempfile::tempdir().unwrap();
+    let mat = root.path().join("mat");
+    merl_material(root.path(), &mat);
+    let texture = mat.join("term0-factor0-light.exr");
+    let outside = root.path().join("elsewhere.exr");
+    std::fs::rename(&texture, &outside).unwrap();
+    std::os::unix::fs::symlink(&outside, &texture).unwrap();
+    let e = Material::load(&mat).unwrap_err().to_string();
+    assert!(e.contains("material.json") && e.contains("symbolic link") && !e.contains('\n'), "{e}");
+    // A link inside the directory is fine.
+    std::fs::rename(&outside, mat.join("real.exr")).unwrap();
+    std::fs::remove_file(&texture).unwrap();
+    std::os::unix::fs::symlink("real.exr", &texture).unwrap();
+    Material::load(&mat).unwrap();
+}
+
+/// A small MERL file (a Lambertian table) and the material `fit --merl` makes of it at
+/// `out`.
+fn merl_material(dir: &Path, out: &Path) -> PathBuf {
+    let merl = dir.join("lambert.binary");
+    if !merl.exists() {
+        Merl::from_brdf(|_, _| [0.2, 0.3, 0.4]).write(&merl).unwrap();
+    }
+    let r = brdfpaint(dir, &["fit", "--merl", s(&merl), "--density", "6", "--out", s(out)]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    merl
+}
+
+/// `--out` never turns something that is not ours into a material, a refit keeps the user's
+/// other files, and errors name the path the user gave (issue 13, items 4 and 8).
+#[test]
+fn outputs_never_replace_user_data() {
+    let root = tempfile::tempdir().unwrap();
+    let mat = root.path().join("mat");
+    let merl = merl_material(root.path(), &mat);
+    let fit = |out: &Path| brdfpaint(root.path(), &["fit", "--merl", s(&merl), "--density", "6", "--out", s(out)]);
+
+    // An existing file is refused with one line and left as it was.
+    let file = root.path().join("notes.txt");
+    std::fs::write(&file, "my notes").unwrap();
+    assert_one_line_error(&fit(&file), &["notes.txt exists and is not a material directory"]);
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "my notes");
+    // A symbolic link to a material is not replaced either.
+    let link = root.path().join("link");
+    std::os::unix::fs::symlink(&mat, &link).unwrap();
+    assert_one_line_error(&fit(&link), &["link exists and is not a material directory"]);
+    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+
+    // A refit into a material directory keeps the user's files and folders there.
+    std::fs::write(mat.join("notes.txt"), "why this material").unwrap();
+    std::fs::create_dir(mat.join("paintings")).unwrap();
+    std::fs::write(mat.join("paintings/p.png"), "art").unwrap();
+    // A texture of an older, larger material is ours: it goes.
+    std::fs::write(mat.join("term3-factor0-light.exr"), "stale").unwrap();
+    let r = fit(&mat);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(r.stdout.contains("wrote"), "{}", r.stdout);
+    Material::load(&mat).unwrap();
+    assert_eq!(std::fs::read_to_string(mat.join("notes.txt")).unwrap(), "why this material");
+    assert_eq!(std::fs::read_to_string(mat.join("paintings/p.png")).unwrap(), "art");
+    assert!(!mat.join("term3-factor0-light.exr").exists());
+    assert!(brdfpaint::commit::temporaries(root.path()).is_empty());
+
+    // An output that cannot be written is reported with the user's path, not a temporary.
+    let r = fit(&file.join("mat"));
+    assert_one_line_error(&r, &["notes.txt"]);
+    assert!(!r.stderr.contains(".brdfpaint-"), "{}", r.stderr);
+}
+
+/// Usage errors are one line naming the flag, exit 2 (issue 13, item 8).
+#[test]
+fn usage_errors_are_one_line_naming_the_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, flag) in [
+        (vec!["fit", "--bogus"], "--bogus"),
+        (vec!["fit", "--merl", "x.binary"], "--out"),
+        (vec!["fit", "--merl", "x.binary", "--out", "m", "--res", "many"], "--res"),
+        (vec!["render", "m", "--model", "x.glb", "--preset", "front", "--out", "r.png", "--turntable", "many"], "--turntable"),
+        (vec!["sheet", "--out"], "--out"),
+    ] {
+        let r = brdfpaint(dir.path(), &args);
+        assert_eq!(r.code, 2, "{args:?}: {}", r.stderr);
+        assert_eq!(r.stderr.lines().count(), 1, "{args:?}: {}", r.stderr);
+        assert!(r.stderr.starts_with("error: ") && r.stderr.contains(flag), "{args:?}: {}", r.stderr);
+    }
+}
