@@ -281,7 +281,7 @@ fn merl_files() {
 #[test]
 fn material_files() {
     let pattern = SphereView::new(DVec3::new(-0.5, 0.5, 1.0), 30).pattern();
-    let values = pattern.shade(|l, v| Analytic::suite()[2].shading(l, v));
+    let values = pattern.shade(|q| brdfpaint::brdf::Reflectance::shading(&Analytic::suite()[2], q));
     let settings = Settings::default();
     let fit = prepare(&pattern, &settings).unwrap().solve(&values, Mapping::Auto).unwrap();
     let material = Material::from_fit(&settings, &fit, Provenance::default()).unwrap();

@@ -1,0 +1,192 @@
+//! Lit spheres and MatCaps (`brdfpaint fit --lit-sphere`): the disk is found and the key
+//! light estimated on rendered analytic spheres (the truth known), every bundled MatCap gets
+//! a light in front of the sphere and a material that darkens when the light goes behind,
+//! and bad pictures are refused in one line.
+
+use std::path::Path;
+use std::process::Command;
+
+use brdfpaint::brdf::{Analytic, Reflectance, SphereView};
+use brdfpaint::gl::HeadlessContext;
+use brdfpaint::images::Painting;
+use brdfpaint::litsphere::{estimate_light, find_disk, Outline};
+use brdfpaint::material::Material;
+use brdfpaint::render::{GpuScene, Renderer};
+use brdfpaint::scene::{Light, Scene};
+use glam::{DVec3, Vec3};
+
+const MATCAPS: &str = "../shared/data/matcaps/blender_cc0/exr";
+
+fn bin() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_brdfpaint"));
+    c.env("LIBGL_ALWAYS_SOFTWARE", "1").env("BRDFPAINT_CACHE", std::env::temp_dir().join("brdfpaint-test-cache"));
+    c
+}
+
+/// `model` painted on a sphere of `res` pixels lit from `light`, placed at (`x0`, `y0`) in a
+/// `w` × `h` picture on a white background: the truth times a white light.
+fn sphere_picture(model: &Analytic, light: DVec3, res: usize, (w, h): (usize, usize), (x0, y0): (usize, usize)) -> Painting {
+    let mut p = Painting::opaque(w, h, vec![[1.0; 3]; w * h]).unwrap();
+    for px in SphereView::new(light, res).pixels() {
+        let s = model.shading(&px.query);
+        p.pixels[(y0 + px.pixel[1]) * w + x0 + px.pixel[0]] = s.map(|x| x as f32);
+    }
+    p
+}
+
+#[test]
+fn light_of_rendered_analytic_spheres_within_10_degrees() {
+    let models = [
+        Analytic::Lambert { albedo: [0.7, 0.45, 0.2] },
+        Analytic::BlinnPhong { diffuse: [0.45, 0.25, 0.12], specular: [0.3, 0.35, 0.4], exponent: 32.0 },
+        Analytic::Ggx { diffuse: [0.4, 0.25, 0.12], f0: [0.5, 0.42, 0.35], roughness: 0.3 },
+        Analytic::Gooch { warm: [0.9, 0.6, 0.2], cool: [0.1, 0.2, 0.6] },
+    ];
+    // Upper left, side (76° from the view), top (73°), lower right.
+    let lights = [DVec3::new(-0.5, 0.5, 1.0), DVec3::new(1.0, 0.0, 0.25), DVec3::new(0.0, 1.0, 0.3), DVec3::new(0.4, -0.3, 1.0)];
+    let mut worst = 0.0f64;
+    for model in &models {
+        for &light in &lights {
+            let picture = sphere_picture(model, light, 160, (240, 200), (50, 20));
+            let (disk, outline) = find_disk(&picture, "sphere").unwrap();
+            assert_eq!(outline, Outline::Background);
+            assert!((disk.cx - 130.0).abs() < 1.5 && (disk.cy - 100.0).abs() < 1.5 && (disk.r - 80.0).abs() < 1.5, "{disk:?}");
+            let e = estimate_light(&picture, &disk).unwrap();
+            let angle = e.direction.angle_between(light.normalize()).to_degrees();
+            eprintln!("{} light {light}: estimated {:.3} off by {angle:.1}° (spread {:.1}°)", model.name(), e.direction, e.spread_deg);
+            assert!(angle < 10.0, "{}: light {light} estimated as {} ({angle:.1}° off)", model.name(), e.direction);
+            worst = worst.max(angle);
+        }
+    }
+    eprintln!("worst {worst:.1}°");
+}
+
+/// Mean luminance of the object's pixels (alpha 1) of a render.
+fn object_luminance(image: &brdfpaint::render::Image, w: usize, h: usize) -> f64 {
+    let (mut sum, mut n) = (0.0, 0usize);
+    for j in 0..h {
+        for i in 0..w {
+            let p = image.at(i, j);
+            if p[3] == 1.0 {
+                sum += 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64;
+                n += 1;
+            }
+        }
+    }
+    sum / n.max(1) as f64
+}
+
+#[test]
+fn every_bundled_matcap_gets_a_front_light_and_darkens_when_the_light_goes_behind() {
+    let ctx = HeadlessContext::new().unwrap();
+    let mut renderer = Renderer::new(ctx.gl()).unwrap();
+    let scene = Scene::from_preset("bunny", "front").unwrap();
+    let mut gpu = GpuScene::upload(ctx.gl(), &scene).unwrap();
+    let view = scene.camera.forward();
+    let dir = tempfile::tempdir().unwrap();
+    let mut names: Vec<_> = std::fs::read_dir(MATCAPS).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "exr")).collect();
+    names.sort();
+    assert!(names.len() >= 20, "{names:?}");
+    let mut failures = Vec::new();
+    for path in &names {
+        let stem = path.file_stem().unwrap().to_string_lossy().to_string();
+        let out = dir.path().join(&stem);
+        let run = bin().args(["fit", "--lit-sphere"]).arg(path).arg("--out").arg(&out).output().unwrap();
+        let stdout = String::from_utf8_lossy(&run.stdout);
+        assert!(run.status.success(), "{stem}: {}", String::from_utf8_lossy(&run.stderr));
+        // "light estimated at (x, y, z)": in front of the sphere, z > 0.
+        let at = stdout.split("light estimated at (").nth(1).unwrap();
+        let z: f64 = at.split(')').next().unwrap().split(',').nth(2).unwrap().trim().parse().unwrap();
+        assert!(z > 0.0, "{stem}: light behind the sphere:\n{stdout}");
+        // A light sweep about the vertical axis: from the camera to behind the bunny.
+        let material = Material::load(&out).unwrap();
+        let shading = renderer.upload(&material).unwrap();
+        let mut frames = Vec::new();
+        for k in 0..8 {
+            let a = std::f32::consts::TAU * k as f32 / 8.0;
+            let towards = glam::Quat::from_rotation_y(a) * -view;
+            gpu.light = Light::Directional { direction: -towards, color: Vec3::ONE, intensity: 1.0 };
+            let image = renderer.factored(&gpu, &shading, 128, 128).unwrap();
+            frames.push(object_luminance(&image, 128, 128));
+        }
+        let (lo, hi) = frames.iter().fold((f64::MAX, 0.0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+        eprintln!("{stem}: light z {z:.2}; sweep darkest/brightest {:.3}", lo / hi);
+        if lo > 0.5 * hi {
+            failures.push(format!("{stem}: darkest frame {lo:.4} > 0.5 x brightest {hi:.4}"));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+#[test]
+fn the_scene_written_beside_the_material_reproduces_the_picture() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = Analytic::BlinnPhong { diffuse: [0.45, 0.25, 0.12], specular: [0.3, 0.35, 0.4], exponent: 32.0 };
+    let picture = sphere_picture(&model, DVec3::new(-0.5, 0.5, 1.0), 120, (160, 140), (10, 12));
+    let png = dir.path().join("sphere.png");
+    std::fs::write(&png, picture.encode_png16().unwrap()).unwrap();
+    let out = dir.path().join("mat");
+    let run = bin().args(["fit", "--lit-sphere"]).arg(&png).arg("--out").arg(&out).output().unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    for f in ["material.json", "report.png", "scene.gltf"] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let render = dir.path().join("again.png");
+    let run = bin().arg("render").arg(&out).arg("--scene").arg(out.join("scene.gltf")).args(["--size", "160x140", "--out"]).arg(&render).output().unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let again = Painting::read(&render).unwrap();
+    // Inside the disk (away from its rim), the render of the fit is the picture.
+    let (mut num, mut den) = (0.0, 0.0);
+    for j in 0..140 {
+        for i in 0..160 {
+            let (x, y) = (i as f64 + 0.5 - 70.0, j as f64 + 0.5 - 72.0);
+            if x * x + y * y < 55.0 * 55.0 {
+                let k = j * 160 + i;
+                for c in 0..3 {
+                    num += (again.pixels[k][c] as f64 - picture.pixels[k][c] as f64).powi(2);
+                    den += (picture.pixels[k][c] as f64).powi(2);
+                }
+            }
+        }
+    }
+    let rel = (num / den).sqrt();
+    assert!(rel < 0.08, "relative RMS of the re-render against the picture {rel:.4}");
+}
+
+#[test]
+fn bad_pictures_get_one_line_each() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, p: &Painting| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, p.encode_png16().unwrap()).unwrap();
+        path
+    };
+    let blank = write("blank.png", &Painting::opaque(64, 48, vec![[0.3; 3]; 64 * 48]).unwrap());
+    let lambert = Analytic::Lambert { albedo: [0.7, 0.45, 0.2] };
+    let mut two = sphere_picture(&lambert, DVec3::Z, 40, (120, 60), (5, 10));
+    let right = sphere_picture(&lambert, DVec3::Z, 40, (120, 60), (70, 10));
+    for (a, b) in two.pixels.iter_mut().zip(&right.pixels) {
+        *a = [0, 1, 2].map(|c| a[c].min(b[c]));
+    }
+    let two = write("two.png", &two);
+    let mut nan = Vec::new();
+    let exr = dir.path().join("nan.exr");
+    {
+        let mut p = sphere_picture(&lambert, DVec3::Z, 40, (50, 50), (5, 5));
+        p.pixels[25 * 50 + 25] = [f32::NAN; 3];
+        std::fs::write(&exr, p.encode_exr().unwrap()).unwrap();
+        nan.push(exr.clone());
+    }
+    for (path, want) in [(&blank, "all background"), (&two, "two shapes"), (&exr, "NaN")] {
+        let out = dir.path().join("out");
+        let run = bin().args(["fit", "--lit-sphere"]).arg(path).arg("--out").arg(&out).output().unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{}: {stderr}", path.display());
+        assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+        assert!(stderr.contains(want), "{}: {stderr}", path.display());
+        assert!(!out.exists(), "nothing written");
+    }
+    let run = bin().args(["fit", "--lit-sphere"]).arg(&blank).args(["--light", "0,0,0", "--out"]).arg(dir.path().join("o")).output().unwrap();
+    assert_eq!(run.status.code(), Some(2), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(Path::new(MATCAPS).exists());
+}
