@@ -371,7 +371,7 @@ pub fn fidelity_table(cases: &[Case]) -> String {
 /// frame time; it must fit in one 60 Hz frame (16.7 ms).
 pub fn live_paint_case(quick: bool) -> Result<Case> {
     let strokes = if quick { 10 } else { 60 };
-    let t = crate::viewer::paint::measure_stroke_to_frame("bunny", 512, strokes)?;
+    let t = crate::live::measure_stroke_to_frame("bunny", 512, strokes)?;
     Ok(Case {
         case: "live paint stroke -> frame, bunny 512x512".into(),
         samples: Some(t.samples),

@@ -40,6 +40,7 @@ pub mod error;
 pub mod factor;
 pub mod gl;
 pub mod images;
+pub mod live;
 pub mod material;
 pub mod render;
 pub mod sample;

@@ -8,9 +8,7 @@ use brdfpaint::material::Material;
 use brdfpaint::render::Renderer;
 use brdfpaint::scene::Scene;
 use brdfpaint::sample::{PaintedView, Samples, SceneSampler, Erosion};
-use brdfpaint::viewer::canvas::{blank, Brush};
-use brdfpaint::viewer::paint::{fit_views, measure_stroke_to_frame, PaintSession, PaintView};
-use brdfpaint::viewer::watch::{WatchStatus, Watcher};
+use brdfpaint::live::{blank, fit_views, measure_stroke_to_frame, Brush, PaintSession, PaintView, WatchStatus, Watcher};
 use glam::Vec2;
 
 const SIZE: usize = 128;
@@ -190,14 +188,14 @@ fn watch_mode_refits_a_rewritten_file_and_survives_a_truncated_one() {
     session.add_view(view);
     let mut watcher = Watcher::new(&painting, 0);
 
-    let status = watcher.check(&mut session).cloned();
+    let status = watcher.check(&mut session, &mut renderer).cloned();
     assert!(matches!(status, Some(WatchStatus::Fitted { samples }) if samples > 1000), "{status:?}");
     let first: Material = session.material().unwrap().clone();
-    assert_eq!(watcher.check(&mut session), None, "an unchanged file is not refitted");
+    assert_eq!(watcher.check(&mut session, &mut renderer), None, "an unchanged file is not refitted");
 
     // Another program rewrites it: bluer.
     write_painting(&session.views[0], &painting, [0.3, 0.5, 1.0]);
-    assert!(matches!(watcher.check(&mut session), Some(WatchStatus::Fitted { .. })));
+    assert!(matches!(watcher.check(&mut session, &mut renderer), Some(WatchStatus::Fitted { .. })));
     let second = session.material().unwrap().clone();
     assert_ne!(first.terms[0].factors, second.terms[0].factors);
     let q = brdfpaint::factor::Query { l: glam::DVec3::Z, v: glam::DVec3::Z, uv: glam::DVec2::ZERO };
@@ -207,25 +205,27 @@ fn watch_mode_refits_a_rewritten_file_and_survives_a_truncated_one() {
     // A half-written file: the last good material stays and the status says why.
     let bytes = std::fs::read(&painting).unwrap();
     std::fs::write(&painting, &bytes[..bytes.len() / 3]).unwrap();
-    match watcher.check(&mut session) {
+    match watcher.check(&mut session, &mut renderer) {
         Some(WatchStatus::Failed(e)) => assert!(e.contains("painting.png") && e.contains("truncated"), "{e}"),
         other => panic!("a truncated file must fail: {other:?}"),
     }
     assert_eq!(session.material().unwrap().terms, second.terms, "the last good material stays");
     // Garbage, an empty file, a wrong size: the same.
     std::fs::write(&painting, b"").unwrap();
-    assert!(matches!(watcher.check(&mut session), Some(WatchStatus::Failed(e)) if e.contains("empty")));
-    blank(40, 40).unwrap().write(&painting).unwrap();
-    assert!(matches!(watcher.check(&mut session), Some(WatchStatus::Failed(e)) if e.contains("40x40")));
+    assert!(matches!(watcher.check(&mut session, &mut renderer), Some(WatchStatus::Failed(e)) if e.contains("empty")));
+    // (A wrong size is one of another aspect: `fit`'s size rule, see the test below.)
+    blank(40, 48).unwrap().write(&painting).unwrap();
+    assert!(matches!(watcher.check(&mut session, &mut renderer), Some(WatchStatus::Failed(e)) if e.contains("40x48")));
+    assert_eq!((session.views[0].width, session.views[0].height), (80, 80), "the view stays");
     assert_eq!(session.material().unwrap().terms, second.terms);
     // A fully transparent painting has no samples: an error, the material stays.
     blank(80, 80).unwrap().write(&painting).unwrap();
-    assert!(matches!(watcher.check(&mut session), Some(WatchStatus::Failed(e)) if e.contains("no samples")));
+    assert!(matches!(watcher.check(&mut session, &mut renderer), Some(WatchStatus::Failed(e)) if e.contains("no samples")));
     assert_eq!(session.material().unwrap().terms, second.terms);
 
     // The painter finishes writing: back to fitting.
     write_painting(&session.views[0], &painting, [1.0, 0.6, 0.3]);
-    assert!(matches!(watcher.check(&mut session), Some(WatchStatus::Fitted { .. })));
+    assert!(matches!(watcher.check(&mut session, &mut renderer), Some(WatchStatus::Fitted { .. })));
     assert_tables_close(
         &session.fit().unwrap().tables,
         &{
@@ -280,7 +280,7 @@ fn dropped_files_open_models_materials_and_paintings_and_strays_are_refused() {
         paint_model: "sphere".into(),
         size: 64,
         mode: Mode::View,
-        render_scale: 1.0,
+        render_scale: Some(1.0),
     };
     let mut studio = Studio::new(&mut renderer, start).unwrap();
     let dir = tempfile::tempdir().unwrap();
