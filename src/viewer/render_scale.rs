@@ -11,7 +11,9 @@
 //! $T$ gives the next scale. Medians over a window of frames keep one slow frame (a prepare
 //! finishing, a texture upload) from moving it, and a band around the target keeps it from
 //! hunting: the scale goes down when frames are slower than [`TARGET_MS`] and up only when
-//! they are faster than [`RAISE_BELOW`] of it.
+//! they are faster than [`RAISE_BELOW`] of it. Where no scale can meet the target (the rest
+//! of the frame alone takes it), the view is not blurred for nothing: it is given about a
+//! quarter of the rest's time.
 //!
 //! A scale the user sets (`--render-scale`, the panel's slider) turns the automatic choice off.
 
@@ -26,6 +28,8 @@ const WINDOW: usize = 8;
 /// Frames ignored after a change (a new target is allocated) and at the start (shaders are
 /// compiled, tables uploaded).
 const SETTLE: usize = 3;
+/// When the target cannot be met, the 3D view keeps this share of the rest of the frame.
+const MIN_VIEW_SHARE: f64 = 0.25;
 /// Scales are multiples of this: a change is always visible, and noise below it is ignored.
 const STEP: f32 = 1.0 / 16.0;
 
@@ -119,19 +123,26 @@ fn next_scale(scale: f32, frame: f64, view: f64) -> f32 {
         return scale;
     }
     let other = frame - view;
+    let unreachable = slow && TARGET_MS <= (1.0 + MIN_VIEW_SHARE) * other;
     // Aim at the middle of the band when raising, so the next window does not fall back out.
     let target = if slow { TARGET_MS } else { 0.5 * (1.0 + RAISE_BELOW) * TARGET_MS };
     let wanted = if view <= 0.0 {
         // Nothing measured for the view: step, do not jump.
         if slow { scale - STEP } else { scale + STEP }
-    } else if target <= other {
-        MIN_SCALE
+    } else if unreachable {
+        // No scale reaches the target (egui or a loaded machine takes the frame): shrinking
+        // the view further would cost its sharpness for little time, so it keeps to a
+        // [`MIN_VIEW_SHARE`] of the rest.
+        scale * (MIN_VIEW_SHARE * other / view).sqrt() as f32
     } else {
         scale * ((target - other) / view).sqrt() as f32
     };
     // Down in whole steps below the wanted scale, up in whole steps below it too (never
     // overshooting the target), and at least one step either way.
     let mut next = clamp((wanted / STEP).floor() * STEP);
+    if unreachable {
+        return next;
+    }
     if slow && next >= scale {
         next = clamp(scale - STEP);
     }
@@ -210,9 +221,15 @@ mod tests {
     }
 
     #[test]
-    fn when_nothing_is_fast_enough_it_stays_at_the_smallest_scale() {
+    fn when_nothing_is_fast_enough_the_view_keeps_a_quarter_of_the_rest() {
+        // 45 ms of egui alone: no scale meets 30 ms. The view gets about 11 ms: 30 s^2 = 11.25
+        // at s = 0.61, in steps of 1/16 below it: 0.5625.
         let mut s = RenderScale::automatic();
         run(&mut s, 45.0, 30.0, 200);
+        assert_eq!(s.scale(), 0.5625);
+        // A view that is the whole cost still goes down to the smallest scale.
+        let mut s = RenderScale::automatic();
+        run(&mut s, 2.0, 900.0, 200);
         assert_eq!(s.scale(), MIN_SCALE);
     }
 

@@ -422,28 +422,30 @@ impl Studio {
                 WatchStatus::Failed(err) => format!("{err} (keeping the last good material)"),
             };
         }
-        let shown = if self.catalogue.shows_live() {
-            "the live painting's material".to_string()
-        } else {
-            format!("material {}", self.catalogue.material_name())
-        };
         let painted: Vec<String> =
-            (0..e.session.views.len()).filter(|&k| e.is_painted(k)).map(|k| format!("'{}'", e.view_label(k))).collect();
+            (0..e.session.views.len()).filter(|&k| e.is_painted(k)).map(|k| e.view_label(k)).collect();
         let live = if painted.is_empty() {
             if e.session.material().is_some() {
-                "nothing painted: the live material stays at its last fit".to_string()
+                "nothing painted (the live material keeps its last fit)".to_string()
             } else {
                 "nothing painted yet".to_string()
             }
         } else if e.session.preparing() {
             format!("painted {}: preparing the new pixels...", painted.join(", "))
         } else {
-            let samples = self.meter.last.map_or(String::new(), |r| format!(", {} samples", r.samples));
-            format!("painted {}{samples}", painted.join(", "))
+            let samples = self.meter.last.map_or(String::new(), |r| format!("{} samples from ", r.samples));
+            format!("fitted {samples}{}", painted.join(", "))
         };
-        match self.mode {
-            Mode::View => format!("showing {shown} on {}; {live}", short(self.catalogue.model_name())),
-            Mode::Paint => format!("painting view '{}': {live}; showing {shown}", e.view_label(e.active)),
+        let name = self.catalogue.material_name();
+        match (self.mode, self.catalogue.shows_live()) {
+            (Mode::View, true) => format!("showing the live painting's material on {}: {live}", short(self.catalogue.model_name())),
+            (Mode::View, false) => format!("showing material {} on {}", short(name), short(self.catalogue.model_name())),
+            (Mode::Paint, true) => format!("painting view '{}': {live}", e.view_label(e.active)),
+            (Mode::Paint, false) => format!(
+                "painting view '{}': {live}; the 3D view shows material {}, not the painting's",
+                e.view_label(e.active),
+                short(name)
+            ),
         }
     }
 }
