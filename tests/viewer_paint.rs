@@ -328,3 +328,54 @@ fn dropped_files_open_models_materials_and_paintings_and_strays_are_refused() {
     assert!(e.contains("notes.txt") && e.contains("not a model"), "{e}");
     assert_eq!(studio.material_name(), "mat");
 }
+
+#[test]
+fn watch_takes_a_painting_of_any_size_of_the_cameras_aspect_as_fit_does() {
+    // `fit` takes a 300x300 painting for a scene whose views are 512x512 (aspect within 1%);
+    // watch mode follows the same rule: the view is rendered again at the painting's size,
+    // and the fit is the fit command's path at that size.
+    let ctx = HeadlessContext::new().unwrap();
+    let mut renderer = Renderer::new(ctx.gl()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Scene::from_preset("sphere", "front-left").unwrap();
+    let mut session = PaintSession::new(Settings::default(), Mapping::Auto);
+    session.add_view(PaintView::new(&mut renderer, "scene.gltf", scene.clone(), 96, 96).unwrap());
+    let painting = dir.path().join("painting.png");
+    let small = PaintView::new(&mut renderer, "scene.gltf", scene.clone(), 60, 60).unwrap();
+    write_painting(&small, &painting, [0.9, 0.5, 0.2]);
+    let mut watcher = Watcher::new(&painting, 0);
+    let status = watcher.check(&mut session, &mut renderer).cloned();
+    assert!(matches!(status, Some(WatchStatus::Fitted { .. })), "{status:?}");
+    assert_eq!((session.views[0].width, session.views[0].height), (60, 60), "the view follows the painting");
+
+    let watched_tables = session.fit().unwrap().tables.clone();
+    let watched_painting = brdfpaint::images::Painting::read(&painting).unwrap();
+
+    // 202x200 is within 1% of square (exactly 1%): taken. 200x216 is not: refused, naming
+    // both sizes, and the view and material stay.
+    let fitted = session.material().unwrap().clone();
+    let near = PaintView::new(&mut renderer, "scene.gltf", scene.clone(), 202, 200).unwrap();
+    write_painting(&near, &painting, [0.9, 0.5, 0.2]);
+    assert!(matches!(watcher.check(&mut session, &mut renderer), Some(WatchStatus::Fitted { .. })));
+    assert_eq!((session.views[0].width, session.views[0].height), (202, 200));
+    blank(200, 216).unwrap().write(&painting).unwrap();
+    match watcher.check(&mut session, &mut renderer) {
+        Some(WatchStatus::Failed(e)) => assert!(e.contains("200x216") && e.contains("aspect") && e.contains("202x200"), "{e}"),
+        other => panic!("another aspect must fail: {other:?}"),
+    }
+    assert_eq!((session.views[0].width, session.views[0].height), (202, 200), "the view stays");
+    assert_ne!(session.material().unwrap().terms, fitted.terms, "the 202x200 fit stays (not the 60x60 one)");
+
+    // The fit command's path on the 60x60 file: the library's sampler at the painting's size
+    // (last: the sampler makes its own GL context current).
+    let mut sampler = SceneSampler::new().unwrap();
+    let painted = vec![PaintedView {
+        name: "painting.png".into(),
+        source: "scene.gltf".into(),
+        geometry: sampler.geometry(&scene, 60, 60, Erosion::default()).unwrap(),
+        painting: watched_painting,
+    }];
+    let samples = Samples::gather(&painted).unwrap();
+    let once = brdfpaint::sample::fit(&samples, &Settings::default(), Mapping::Auto, None).unwrap().fit;
+    assert_tables_close(&watched_tables, &once.tables, "watch at 60x60 vs fit");
+}
