@@ -187,11 +187,18 @@ impl Studio {
     }
 }
 
-/// Per view: its canvas texture, the guides it was drawn with, and the easel's generation
-/// it belongs to.
+/// A view's canvas texture, the guides it was drawn with, and the easel's generation it
+/// belongs to.
+struct CanvasTexture {
+    texture: TextureHandle,
+    guides: (bool, bool),
+    generation: u64,
+}
+
+/// Per view: its canvas texture.
 #[derive(Default)]
 pub(super) struct CanvasTextures {
-    textures: Vec<Option<(TextureHandle, (bool, bool), u64)>>,
+    textures: Vec<Option<CanvasTexture>>,
 }
 
 impl CanvasTextures {
@@ -204,7 +211,7 @@ impl CanvasTextures {
         if self.textures.len() <= k {
             self.textures.resize_with(k + 1, || None);
         }
-        let full = self.textures[k].as_ref().is_none_or(|(_, g, gen)| *g != guides || *gen != generation);
+        let full = self.textures[k].as_ref().is_none_or(|t| t.guides != guides || t.generation != generation);
         let dirty = view.canvas.take_dirty();
         let rect = if full { Some(CanvasRect { x0: 0, y0: 0, x1: view.width, y1: view.height }) } else { dirty };
         if let Some(r) = rect {
@@ -233,10 +240,13 @@ impl CanvasTextures {
             }
             let image = ColorImage::new([w, h], pixels);
             match &mut self.textures[k] {
-                Some((tex, _, _)) if !full => tex.set_partial([r.x0, r.y0], image, TextureOptions::LINEAR),
-                slot => *slot = Some((ctx.load_texture(format!("canvas {k}"), image, TextureOptions::LINEAR), guides, generation)),
+                Some(t) if !full => t.texture.set_partial([r.x0, r.y0], image, TextureOptions::LINEAR),
+                slot => {
+                    let texture = ctx.load_texture(format!("canvas {k}"), image, TextureOptions::LINEAR);
+                    *slot = Some(CanvasTexture { texture, guides, generation });
+                }
             }
         }
-        self.textures[k].as_ref().map(|(t, _, _)| t.id())
+        self.textures[k].as_ref().map(|t| t.texture.id())
     }
 }
