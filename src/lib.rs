@@ -41,6 +41,7 @@ pub mod fsio;
 pub mod gl;
 pub mod images;
 pub mod litsphere;
+pub mod live;
 pub mod material;
 pub mod pipeline;
 pub mod render;

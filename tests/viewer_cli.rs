@@ -52,3 +52,27 @@ fn without_a_display_the_error_says_so() {
     assert!(err.starts_with("error: ") && err.contains("window"), "{err}");
     assert_eq!(err.trim().lines().count(), 1, "{err}");
 }
+
+#[test]
+fn a_scene_without_camera_or_light_names_views_own_options() {
+    // A model file is not a scene: `view` says how to paint or look at it with its own
+    // options (it has no --preset, which `render` and `fit` suggest).
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("model.gltf");
+    // A glTF with a mesh and no camera: the sphere's preset scene written, its camera removed
+    // (buffers stay beside it, under the same names).
+    let scene = brdfpaint::scene::Scene::from_preset("sphere", "front").unwrap();
+    let full = dir.path().join("full.gltf");
+    scene.write_gltf(&full).unwrap();
+    let mut json: serde_json::Value = serde_json::from_slice(&std::fs::read(&full).unwrap()).unwrap();
+    json.as_object_mut().unwrap().remove("cameras");
+    for node in json["nodes"].as_array_mut().unwrap() {
+        node.as_object_mut().unwrap().remove("camera");
+    }
+    std::fs::write(&model, serde_json::to_vec(&json).unwrap()).unwrap();
+    let (code, err) = view(&["--scene", model.to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("no camera") && !err.contains("--preset"), "{err}");
+    assert!(err.contains("--paint-model") && err.contains("--model"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+}

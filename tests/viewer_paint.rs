@@ -10,9 +10,8 @@ use brdfpaint::material::Material;
 use brdfpaint::render::Renderer;
 use brdfpaint::scene::Scene;
 use brdfpaint::sample::{PaintedView, Samples, SceneSampler, Erosion};
-use brdfpaint::viewer::canvas::{blank, Brush};
-use brdfpaint::viewer::paint::{fit_views, measure_stroke_to_frame, PaintSession, PaintView};
-use brdfpaint::viewer::watch::{WatchStatus, Watcher};
+use brdfpaint::study::measure_stroke_to_frame;
+use brdfpaint::live::{blank, fit_views, Brush, PaintSession, PaintView, WatchStatus, Watcher};
 use glam::Vec2;
 
 const SIZE: usize = 128;
@@ -192,14 +191,14 @@ fn watch_mode_refits_a_rewritten_file_and_survives_a_truncated_one() {
     session.add_view(view);
     let mut watcher = Watcher::new(&painting, 0);
 
-    let status = watcher.check(&mut session).cloned();
+    let status = watcher.check(&mut session, &mut renderer).cloned();
     assert!(matches!(status, Some(WatchStatus::Fitted { samples }) if samples > 1000), "{status:?}");
     let first: Material = session.material().unwrap().clone();
-    assert_eq!(watcher.check(&mut session), None, "an unchanged file is not refitted");
+    assert_eq!(watcher.check(&mut session, &mut renderer), None, "an unchanged file is not refitted");
 
     // Another program rewrites it: bluer.
     write_painting(&session.views[0], &painting, [0.3, 0.5, 1.0]);
-    assert!(matches!(watcher.check(&mut session), Some(WatchStatus::Fitted { .. })));
+    assert!(matches!(watcher.check(&mut session, &mut renderer), Some(WatchStatus::Fitted { .. })));
     let second = session.material().unwrap().clone();
     assert_ne!(first.terms[0].factors, second.terms[0].factors);
     let q = brdfpaint::factor::Query { l: glam::DVec3::Z, v: glam::DVec3::Z, uv: glam::DVec2::ZERO };
@@ -209,25 +208,27 @@ fn watch_mode_refits_a_rewritten_file_and_survives_a_truncated_one() {
     // A half-written file: the last good material stays and the status says why.
     let bytes = std::fs::read(&painting).unwrap();
     std::fs::write(&painting, &bytes[..bytes.len() / 3]).unwrap();
-    match watcher.check(&mut session) {
+    match watcher.check(&mut session, &mut renderer) {
         Some(WatchStatus::Failed(e)) => assert!(e.contains("painting.png") && e.contains("truncated"), "{e}"),
         other => panic!("a truncated file must fail: {other:?}"),
     }
     assert_eq!(session.material().unwrap().terms, second.terms, "the last good material stays");
     // Garbage, an empty file, a wrong size: the same.
     std::fs::write(&painting, b"").unwrap();
-    assert!(matches!(watcher.check(&mut session), Some(WatchStatus::Failed(e)) if e.contains("empty")));
-    blank(40, 40).unwrap().write(&painting).unwrap();
-    assert!(matches!(watcher.check(&mut session), Some(WatchStatus::Failed(e)) if e.contains("40x40")));
+    assert!(matches!(watcher.check(&mut session, &mut renderer), Some(WatchStatus::Failed(e)) if e.contains("empty")));
+    // (A wrong size is one of another aspect: `fit`'s size rule, see the test below.)
+    blank(40, 48).unwrap().write(&painting).unwrap();
+    assert!(matches!(watcher.check(&mut session, &mut renderer), Some(WatchStatus::Failed(e)) if e.contains("40x48")));
+    assert_eq!((session.views[0].width, session.views[0].height), (80, 80), "the view stays");
     assert_eq!(session.material().unwrap().terms, second.terms);
     // A fully transparent painting has no samples: an error, the material stays.
     blank(80, 80).unwrap().write(&painting).unwrap();
-    assert!(matches!(watcher.check(&mut session), Some(WatchStatus::Failed(e)) if e.contains("no samples")));
+    assert!(matches!(watcher.check(&mut session, &mut renderer), Some(WatchStatus::Failed(e)) if e.contains("no samples")));
     assert_eq!(session.material().unwrap().terms, second.terms);
 
     // The painter finishes writing: back to fitting.
     write_painting(&session.views[0], &painting, [1.0, 0.6, 0.3]);
-    assert!(matches!(watcher.check(&mut session), Some(WatchStatus::Fitted { .. })));
+    assert!(matches!(watcher.check(&mut session, &mut renderer), Some(WatchStatus::Fitted { .. })));
     assert_tables_close(
         &session.fit().unwrap().tables,
         &{
@@ -282,7 +283,7 @@ fn dropped_files_open_models_materials_and_paintings_and_strays_are_refused() {
         paint_model: "sphere".into(),
         size: 64,
         mode: Mode::View,
-        render_scale: 1.0,
+        render_scale: Some(1.0),
     };
     let mut studio = Studio::new(&mut renderer, start).unwrap();
     let dir = tempfile::tempdir().unwrap();
@@ -329,4 +330,55 @@ fn dropped_files_open_models_materials_and_paintings_and_strays_are_refused() {
     let e = studio.open_file(&mut renderer, &notes).unwrap_err().to_string();
     assert!(e.contains("notes.txt") && e.contains("not a model"), "{e}");
     assert_eq!(studio.material_name(), "mat");
+}
+
+#[test]
+fn watch_takes_a_painting_of_any_size_of_the_cameras_aspect_as_fit_does() {
+    // `fit` takes a 300x300 painting for a scene whose views are 512x512 (aspect within 1%);
+    // watch mode follows the same rule: the view is rendered again at the painting's size,
+    // and the fit is the fit command's path at that size.
+    let ctx = HeadlessContext::new().unwrap();
+    let mut renderer = Renderer::new(ctx.gl()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Scene::from_preset("sphere", "front-left").unwrap();
+    let mut session = PaintSession::new(Settings::default(), Mapping::Auto);
+    session.add_view(PaintView::new(&mut renderer, "scene.gltf", scene.clone(), 96, 96).unwrap());
+    let painting = dir.path().join("painting.png");
+    let small = PaintView::new(&mut renderer, "scene.gltf", scene.clone(), 60, 60).unwrap();
+    write_painting(&small, &painting, [0.9, 0.5, 0.2]);
+    let mut watcher = Watcher::new(&painting, 0);
+    let status = watcher.check(&mut session, &mut renderer).cloned();
+    assert!(matches!(status, Some(WatchStatus::Fitted { .. })), "{status:?}");
+    assert_eq!((session.views[0].width, session.views[0].height), (60, 60), "the view follows the painting");
+
+    let watched_tables = session.fit().unwrap().tables.clone();
+    let watched_painting = brdfpaint::images::Painting::read(&painting).unwrap();
+
+    // 202x200 is within 1% of square (exactly 1%): taken. 200x216 is not: refused, naming
+    // both sizes, and the view and material stay.
+    let fitted = session.material().unwrap().clone();
+    let near = PaintView::new(&mut renderer, "scene.gltf", scene.clone(), 202, 200).unwrap();
+    write_painting(&near, &painting, [0.9, 0.5, 0.2]);
+    assert!(matches!(watcher.check(&mut session, &mut renderer), Some(WatchStatus::Fitted { .. })));
+    assert_eq!((session.views[0].width, session.views[0].height), (202, 200));
+    blank(200, 216).unwrap().write(&painting).unwrap();
+    match watcher.check(&mut session, &mut renderer) {
+        Some(WatchStatus::Failed(e)) => assert!(e.contains("200x216") && e.contains("aspect") && e.contains("202x200"), "{e}"),
+        other => panic!("another aspect must fail: {other:?}"),
+    }
+    assert_eq!((session.views[0].width, session.views[0].height), (202, 200), "the view stays");
+    assert_ne!(session.material().unwrap().terms, fitted.terms, "the 202x200 fit stays (not the 60x60 one)");
+
+    // The fit command's path on the 60x60 file: the library's sampler at the painting's size
+    // (last: the sampler makes its own GL context current).
+    let mut sampler = SceneSampler::new().unwrap();
+    let painted = vec![PaintedView {
+        name: "painting.png".into(),
+        source: "scene.gltf".into(),
+        geometry: sampler.geometry(&scene, 60, 60, Erosion::default()).unwrap(),
+        painting: watched_painting,
+    }];
+    let samples = Samples::gather(&painted).unwrap();
+    let once = brdfpaint::pipeline::solve(&samples, &Settings::default(), Mapping::Auto, None).unwrap().fit;
+    assert_tables_close(&watched_tables, &once.tables, "watch at 60x60 vs fit");
 }

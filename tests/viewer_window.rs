@@ -13,7 +13,7 @@ use brdfpaint::gl::HeadlessContext;
 use brdfpaint::images::linear_to_srgb;
 use brdfpaint::render::{GpuScene, Renderer};
 use brdfpaint::scene::{builtin_model, Camera, Light, Projection, Scene};
-use brdfpaint::viewer::paint::{PaintSession, PaintView};
+use brdfpaint::live::{PaintSession, PaintView};
 use glam::{Mat4, Vec3};
 
 fn have(tool: &str) -> bool {
@@ -26,7 +26,7 @@ fn fitted_material(dir: &Path) -> PathBuf {
     let mut renderer = Renderer::new(ctx.gl()).unwrap();
     let mut session = PaintSession::new(Settings::default(), Mapping::Auto);
     let k = session.add_view(PaintView::standard(&mut renderer, "sphere", "front-left", 128).unwrap());
-    let p = brdfpaint::viewer::example_painting(&session.views[k]);
+    let p = brdfpaint::live::example_painting(&session.views[k]);
     session.views[k].canvas.set_painting(&p).unwrap();
     session.settle().unwrap();
     let path = dir.join("mat");

@@ -14,7 +14,6 @@ pub(super) fn run(json: bool, quick: bool) -> Result<()> {
             None
         }
     };
-    #[cfg(feature = "viewer")]
     let live = match brdfpaint::study::bench::live_paint_case(quick) {
         Ok(c) => Some(c),
         Err(e) => {
@@ -22,8 +21,6 @@ pub(super) fn run(json: bool, quick: bool) -> Result<()> {
             None
         }
     };
-    #[cfg(not(feature = "viewer"))]
-    let live: Option<brdfpaint::study::bench::Case> = None;
     if json {
         if let Some((gl_cases, _)) = &gl {
             cases.extend(gl_cases.iter().cloned());

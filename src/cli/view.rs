@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use brdfpaint::error::{Error, Result};
 use brdfpaint::material::Material;
-use brdfpaint::scene::{model_meshes, Scene};
+use brdfpaint::scene::model_meshes;
 use brdfpaint::viewer::{self, Mode, Options, Start};
 
 #[derive(clap::Args)]
@@ -30,7 +30,7 @@ pub(super) struct ViewArgs {
     #[arg(long, value_name = "NAME", default_value = "sphere")]
     paint_model: String,
     /// Painting size in pixels (square standard views; the height of a --scene view).
-    #[arg(long, value_name = "N", default_value_t = brdfpaint::viewer::paint::DEFAULT_SIZE)]
+    #[arg(long, value_name = "N", default_value_t = brdfpaint::live::DEFAULT_SIZE)]
     size: usize,
     /// Window size.
     #[arg(long, value_name = "WxH", default_value = "1280x800")]
@@ -43,8 +43,9 @@ pub(super) struct ViewArgs {
     screenshot: Option<PathBuf>,
     /// Render the 3D view at this fraction of the window's resolution (0.25 to 1; also in the
     /// panel): on software GL a large window's frame costs in proportion to its pixels.
-    #[arg(long, value_name = "F", default_value_t = 1.0)]
-    render_scale: f32,
+    /// Default: chosen from frame times, to keep 30 frames a second.
+    #[arg(long, value_name = "F")]
+    render_scale: Option<f32>,
     /// With --frames: keep the window open this many seconds after the last frame.
     #[arg(long, value_name = "SECONDS", default_value_t = 0.0, requires = "frames")]
     hold: f64,
@@ -65,12 +66,12 @@ pub(super) fn run(args: ViewArgs) -> Result<()> {
     let model = (args.model.clone(), model_meshes(&args.model)?);
     model_meshes(&args.paint_model)?;
     let scene = match &args.scene {
-        Some(p) => Some((p.display().to_string(), Scene::load(p)?)),
+        Some(p) => Some((p.display().to_string(), viewer::load_scene(p)?)),
         None => None,
     };
     let min = brdfpaint::viewer::MIN_RENDER_SCALE;
-    if !(min..=1.0).contains(&args.render_scale) {
-        return Err(Error::input(format!("--render-scale {} is outside {min}..=1", args.render_scale)));
+    if let Some(s) = args.render_scale.filter(|s| !(min..=1.0).contains(s)) {
+        return Err(Error::input(format!("--render-scale {s} is outside {min}..=1")));
     }
     let mode = if args.paint || args.watch.is_some() { Mode::Paint } else { Mode::View };
     let start = Start {

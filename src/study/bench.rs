@@ -434,10 +434,9 @@ pub fn fidelity_table(cases: &[Case]) -> String {
 /// of the bunny, each followed by the viewer's own refit (painted colours → values → solve →
 /// material → texture upload → a frame drawn to `glFinish`). `time_s` is the median stroke →
 /// frame time; it must fit in one 60 Hz frame (16.7 ms).
-#[cfg(feature = "viewer")]
 pub fn live_paint_case(quick: bool) -> Result<Case> {
     let strokes = if quick { 10 } else { 60 };
-    let t = crate::viewer::paint::measure_stroke_to_frame("bunny", 512, strokes)?;
+    let t = super::measure_stroke_to_frame("bunny", 512, strokes)?;
     Ok(Case {
         case: "live paint stroke -> frame, bunny 512x512".into(),
         samples: Some(t.samples),

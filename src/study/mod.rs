@@ -5,10 +5,12 @@
 //! - [`median`]: the middle value, the mean of the middle two for an even count;
 //! - [`held_out_error`]: a material against the truth at the G-buffer queries of held-out
 //!   views ([`fidelity`] paints and judges the analytic suite through the real path);
-//! - [`bench`](mod@bench): `brdfpaint bench`, the thesis's tables and the shader frame times.
+//! - [`bench`](mod@bench): `brdfpaint bench`, the thesis's tables and the shader frame times;
+//!   [`measure_stroke_to_frame`]: the live painting loop, stroke to frame.
 
 pub mod bench;
 pub mod fidelity;
+mod stroke;
 
 use crate::brdf::{Reflectance, SphereView};
 use crate::error::Result;
@@ -16,6 +18,7 @@ use crate::factor::Query;
 use crate::sample::{Erosion, PaintedView};
 
 pub use fidelity::StudyView;
+pub use stroke::{measure_stroke_to_frame, StrokeTiming};
 
 /// Relative RMS $\sqrt{\sum (m - t)^2 / \sum t^2}$ of (model, truth) pairs, all channels:
 /// thesis Table 5.4's relative error.

@@ -18,8 +18,8 @@ use winit::event::{StartCause, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::window::{Window, WindowId};
 
-use super::display::{read_window, PixelRect, View3d};
-use super::studio::{Start, Studio};
+use super::display::{read_window, WindowRect, View3d};
+use super::studio::{Mode, Start, Studio};
 use crate::error::{Error, Result};
 use crate::gl::Gl;
 use crate::render::Renderer;
@@ -45,9 +45,9 @@ pub struct ScreenshotInfo {
     /// Window size, pixels.
     pub window: [u32; 2],
     /// The 3D view's rectangle, window pixels from the top-left corner.
-    pub view_rect: Option<PixelRect>,
+    pub view_rect: Option<WindowRect>,
     /// The egui side panel's rectangle.
-    pub panel_rect: Option<PixelRect>,
+    pub panel_rect: Option<WindowRect>,
     /// World from camera, column-major.
     pub world_from_camera: [f32; 16],
     pub yfov: f32,
@@ -62,8 +62,23 @@ pub struct ScreenshotInfo {
     /// sRGB-encoded background of the 3D view, 0..255.
     pub background: [u8; 3],
     pub frames: u64,
-    /// The 3D view's render scale.
+    /// The 3D view's render scale at the last frame.
     pub render_scale: f32,
+    /// Whether the render scale was chosen from frame times.
+    pub render_scale_auto: bool,
+    /// Median whole-redraw time of the last window of frames, milliseconds (what the
+    /// render scale is chosen from; BENCHMARKS.md, "Viewer frame time").
+    pub frame_ms: Option<f64>,
+    /// "view" or "paint".
+    pub mode: String,
+    /// The View and Paint buttons, window pixels.
+    pub mode_buttons: [Option<WindowRect>; 2],
+    /// The status line, as the panel shows it.
+    pub status: String,
+    /// Undo steps of the painted view.
+    pub can_undo: bool,
+    /// Samples painted over all views.
+    pub painted: usize,
     pub gl_renderer: String,
     pub gl_version: String,
 }
@@ -319,7 +334,10 @@ impl Running {
         if let Ok(mut g) = self.repaint_at.lock() {
             *g = None;
         }
-        self.studio.tick();
+        let redraw_start = Instant::now();
+        self.studio.tick(&mut self.renderer);
+        // Shortcuts work wherever egui's focus is: taken out of the input before egui sees it.
+        self.studio.handle_input(&self.egui.egui_ctx, self.egui.egui_winit.egui_input_mut());
         let (studio, renderer) = (&mut self.studio, &mut self.renderer);
         self.egui.run(&self.window, |ui| studio.ui(renderer, ui));
         self.studio.after(&mut self.renderer);
@@ -337,15 +355,16 @@ impl Running {
             gl.clear_color(b[0], b[1], b[2], 1.0);
             gl.clear(glow::COLOR_BUFFER_BIT);
         }
-        if let Some(rect) = self.studio.view_rect {
+        if let Some(rect) = self.studio.layout.view_rect {
             let aspect = rect.width.max(1) as f32 / rect.height.max(1) as f32;
-            let camera = self.studio.orbit.camera(aspect);
-            let light = self.studio.light.light();
-            self.studio.gpu_model.camera = camera;
-            self.studio.gpu_model.light = light;
+            let stage = &mut self.studio.stage;
+            let camera = stage.orbit.camera(aspect);
+            let light = stage.light.light();
+            stage.gpu_model.camera = camera;
+            stage.gpu_model.light = light;
             self.last_camera = Some((camera, light));
-            let scale = self.studio.render_scale;
-            self.view3d.draw(&mut self.renderer, &self.studio.gpu_model, self.studio.shading.as_ref(), rect, h as i32, scale)?;
+            let scale = stage.render_scale.scale();
+            self.view3d.draw(&mut self.renderer, &stage.gpu_model, stage.shading.as_ref(), rect, h as i32, scale)?;
             // SAFETY: waits for the GPU, to split the frame time into the view and the panel.
             unsafe { self.gl.finish() };
         }
@@ -353,7 +372,7 @@ impl Running {
         self.egui.paint(&self.window);
         // SAFETY: waits for the GPU, so the frame time is the real one.
         unsafe { self.gl.finish() };
-        self.studio.frame_done(start.elapsed().as_secs_f64() * 1e3, view_ms);
+        let frame_ms = start.elapsed().as_secs_f64() * 1e3;
         self.frames += 1;
 
         let mut done = false;
@@ -370,6 +389,7 @@ impl Running {
         self.surface
             .swap_buffers(&self.context)
             .map_err(|e| Error::Gl(format!("cannot present the frame: {e}")))?;
+        self.studio.frame_done(frame_ms, view_ms, redraw_start.elapsed().as_secs_f64() * 1e3);
         Ok(done)
     }
 
@@ -378,7 +398,8 @@ impl Running {
         let mut bytes = std::io::Cursor::new(Vec::new());
         image.write_to(&mut bytes, image::ImageFormat::Png).map_err(|e| Error::format(path, e.to_string()))?;
         crate::util::write_atomic(path, bytes.get_ref())?;
-        let (camera, light) = self.last_camera.unwrap_or((self.studio.orbit.camera(1.0), self.studio.light.light()));
+        let stage = &self.studio.stage;
+        let (camera, light) = self.last_camera.unwrap_or((stage.orbit.camera(1.0), stage.light.light()));
         let (yfov, znear, zfar) = match camera.projection {
             Projection::Perspective { yfov, znear, zfar, .. } => (yfov, znear, zfar.unwrap_or(f32::INFINITY)),
             Projection::Orthographic { znear, zfar, .. } => (0.0, znear, zfar),
@@ -389,8 +410,8 @@ impl Running {
         let b = self.view3d.background.map(|x| (x * 255.0 + 0.5) as u8);
         let info = ScreenshotInfo {
             window: size,
-            view_rect: self.studio.view_rect,
-            panel_rect: self.studio.panel_rect,
+            view_rect: self.studio.layout.view_rect,
+            panel_rect: self.studio.layout.panel_rect,
             world_from_camera: camera.world_from_camera.to_cols_array(),
             yfov,
             znear,
@@ -402,7 +423,14 @@ impl Running {
             material: self.studio.material_name().to_string(),
             background: b,
             frames: self.frames,
-            render_scale: self.studio.render_scale,
+            render_scale: stage.render_scale.scale(),
+            render_scale_auto: stage.render_scale.is_auto(),
+            frame_ms: stage.render_scale.median_frame_ms(),
+            mode: if self.studio.mode == Mode::View { "view" } else { "paint" }.into(),
+            mode_buttons: self.studio.layout.mode_buttons,
+            status: self.studio.status(),
+            can_undo: self.studio.session().views.iter().any(|v| v.canvas.can_undo()),
+            painted: self.studio.session().painted(),
             gl_renderer: self.gl_renderer.clone(),
             gl_version: self.gl_version.clone(),
         };

@@ -10,7 +10,7 @@ use crate::scene::{BoundingSphere, Camera, Light, Projection};
 /// A camera orbiting a target: azimuth `yaw` about +Y (from +Z towards +X) and elevation
 /// `pitch` (positive: looking down), at `distance` from the target, +Y up. Angles in radians.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Orbit {
+pub struct OrbitCamera {
     pub target: Vec3,
     pub yaw: f32,
     pub pitch: f32,
@@ -22,14 +22,14 @@ pub struct Orbit {
 /// Pitch stays this far from the poles, so "up" stays defined.
 const PITCH_LIMIT: f32 = FRAC_PI_2 - 0.01;
 
-impl Orbit {
+impl OrbitCamera {
     /// The standard front view of the object (as the `front-left` preset frames it).
-    pub fn framing(bound: BoundingSphere) -> Orbit {
+    pub fn framing(bound: BoundingSphere) -> OrbitCamera {
         let radius = if bound.radius > 0.0 && bound.radius.is_finite() { bound.radius } else { 1.0 };
         // The bounding sphere fills FRAME_FILL of the height (scene::frame's rule).
         let half = FRAME_FILL * (FRAME_YFOV / 2.0).tan();
         let distance = radius / half.atan().sin();
-        Orbit { target: bound.center, yaw: 0.0, pitch: 10f32.to_radians(), distance, radius }
+        OrbitCamera { target: bound.center, yaw: 0.0, pitch: 10f32.to_radians(), distance, radius }
     }
 
     /// Unit direction from the target towards the camera.
@@ -91,7 +91,7 @@ pub struct LightControl {
 
 impl LightControl {
     /// The key light of the `front-left` preset for a camera orbiting as `orbit` does.
-    pub fn key(orbit: &Orbit) -> LightControl {
+    pub fn key(orbit: &OrbitCamera) -> LightControl {
         let m = orbit.world_from_camera();
         LightControl::towards(m.transform_vector3(Vec3::new(-1.0, 1.0, 1.0)).normalize())
     }
@@ -134,7 +134,7 @@ mod tests {
         let meshes = crate::scene::builtin_model("sphere").unwrap();
         let preset = crate::scene::preset("front-left").unwrap();
         let scene = crate::scene::frame(meshes.clone(), &preset, 1.0);
-        let orbit = Orbit::framing(BoundingSphere::of(&meshes).unwrap());
+        let orbit = OrbitCamera::framing(BoundingSphere::of(&meshes).unwrap());
         let cam = orbit.camera(1.0);
         let d = (cam.world_from_camera - scene.camera.world_from_camera).abs().to_cols_array();
         assert!(d.iter().all(|x| *x < 1e-5), "{:?} vs {:?}", cam.world_from_camera, scene.camera.world_from_camera);
@@ -145,7 +145,7 @@ mod tests {
 
     #[test]
     fn orbit_keeps_distance_and_pitch_limits() {
-        let mut o = Orbit { target: Vec3::ONE, yaw: 0.0, pitch: 0.0, distance: 4.0, radius: 1.0 };
+        let mut o = OrbitCamera { target: Vec3::ONE, yaw: 0.0, pitch: 0.0, distance: 4.0, radius: 1.0 };
         o.rotate(1.0, 10.0);
         assert!(o.pitch <= PITCH_LIMIT);
         let eye = o.world_from_camera().w_axis.truncate();

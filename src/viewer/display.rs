@@ -61,7 +61,7 @@ pub const MIN_SCALE: f32 = 0.25;
 
 /// A window rectangle in physical pixels, top-left origin.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-pub struct PixelRect {
+pub struct WindowRect {
     pub x: i32,
     pub y: i32,
     pub width: i32,
@@ -95,7 +95,7 @@ impl View3d {
         renderer: &mut Renderer,
         scene: &GpuScene,
         shading: Option<&GpuShading>,
-        rect: PixelRect,
+        rect: WindowRect,
         window_height: i32,
         scale: f32,
     ) -> Result<()> {

@@ -1,44 +1,36 @@
-//! The real-time viewer (`brdfpaint view`) and its headless live-painting core.
+//! The real-time viewer (`brdfpaint view`): the window, the UI and the camera. Everything
+//! winit, glutin-winit and egui lives here; the live-painting core it drives is
+//! [`crate::live`], which has no window.
 //!
-//! - [`paint`]: painted views, the prepared system and the refit a stroke triggers, with no
-//!   window (tests and `brdfpaint bench` use it; [`paint::measure_stroke_to_frame`]).
-//! - [`canvas`]: the painting, brush, eraser, fill and exact undo/redo.
-//! - [`watch`]: refit when another program rewrites a painting.
 //! - [`camera`]: orbit camera and movable light.
-//! - [`sample`]: painting → samples and material → shading (small, swappable).
-//! - The window (winit + glutin + egui_glow): [`run`] with [`Options`].
-//!
-//! ```no_run
-//! use brdfpaint::viewer::paint::{PaintSession, PaintView};
-//! use brdfpaint::viewer::canvas::Brush;
-//! use brdfpaint::factor::{Mapping, Settings};
-//! use brdfpaint::gl::HeadlessContext;
-//! use brdfpaint::render::Renderer;
-//!
-//! let ctx = HeadlessContext::new()?;
-//! let mut renderer = Renderer::new(ctx.gl())?;
-//! let mut session = PaintSession::new(Settings::default(), Mapping::Auto);
-//! let k = session.add_view(PaintView::standard(&mut renderer, "sphere", "front-left", 256)?);
-//! let all = session.views[k].object_pixels();
-//! let base = Brush { color: [0.6, 0.25, 0.08], ..Brush::default() };
-//! session.views[k].canvas.fill(base, &all);                            // a base colour
-//! session.settle()?;                                                   // prepare once
-//! let highlight = Brush { color: [1.0; 3], radius: 10.0, ..Brush::default() };
-//! session.views[k].canvas.stroke(highlight, &[glam::Vec2::new(90.0, 80.0)]);
-//! session.refit()?;                                                    // a fraction of a millisecond
-//! let material = session.material().unwrap();
-//! # Ok::<(), brdfpaint::Error>(())
-//! ```
+//! - [`render_scale`]: the 3D view's render scale, picked from frame times.
+//! - The window (winit + glutin + egui_glow): [`run`] with [`Options`]; the state and the
+//!   panel: [`Studio`].
 
 mod app;
 pub mod camera;
-pub mod canvas;
 mod display;
-pub mod paint;
-pub mod sample;
+pub mod render_scale;
 mod studio;
-pub mod watch;
 
 pub use app::{run, Options, ScreenshotInfo};
-pub use display::MIN_SCALE as MIN_RENDER_SCALE;
-pub use studio::{example_painting, Mode, Start, Studio, Timings};
+pub use display::{WindowRect, MIN_SCALE as MIN_RENDER_SCALE};
+pub use studio::shortcuts::{take_shortcuts, Shortcut};
+pub use studio::{Layout, Mode, Stage, Start, Studio, Timings, Tool, PANEL_WIDTH};
+
+/// Loads `view --scene`'s scene. The scene loader's hints name `render`'s and `fit`'s
+/// options (`--model` with `--preset`); `view` has none of those, so a scene without a
+/// camera or light gets `view`'s own way out: its standard views of the model.
+pub fn load_scene(path: &std::path::Path) -> crate::Result<crate::scene::Scene> {
+    crate::scene::Scene::load(path).map_err(|e| match e {
+        crate::Error::Format { path, reason } if reason.contains("--preset") => {
+            let model = path.display();
+            let reason = reason.replace(
+                "use --model with --preset",
+                &format!("paint its standard views with `view --paint --paint-model {model}`, or only look at it with `view --model {model}`"),
+            );
+            crate::Error::Format { path, reason }
+        }
+        e => e,
+    })
+}

@@ -5,13 +5,19 @@
 //! painter that writes in place can be caught mid-write: then the file does not decode, the
 //! last good painting stays, and [`Watcher::status`] says why. The next change is tried
 //! again.
+//!
+//! A painting of another size than the view follows the size rule of `brdfpaint fit`
+//! ([`super::view`]): of the camera's aspect within 1%, the view is rendered again at its size
+//! (hence the [`Renderer`] these calls take); otherwise it is refused, naming both sizes.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant, SystemTime};
 
 use super::canvas::Painting;
-use super::paint::PaintSession;
-use crate::error::Result;
+use super::session::PaintSession;
+use super::view::check_painting_size;
+use crate::error::{Error, Result};
+use crate::render::Renderer;
 use crate::util::Fnv;
 
 /// What the last look at the file found.
@@ -59,17 +65,18 @@ impl Watcher {
     }
 
     /// Polls if the interval has passed since the last poll; see [`Watcher::check`].
-    pub fn poll(&mut self, session: &mut PaintSession) -> Option<&WatchStatus> {
+    pub fn poll(&mut self, session: &mut PaintSession, renderer: &mut Renderer) -> Option<&WatchStatus> {
         if self.last_poll.is_some_and(|t| t.elapsed() < self.interval) {
             return None;
         }
-        self.check(session)
+        self.check(session, renderer)
     }
 
     /// Looks at the file now. When it changed since the last look: reads it, puts it on the
-    /// view's canvas, and fits (waiting for the prepare: the fit is exact). Returns the new
+    /// view's canvas (rendering the view again when the painting has another size of the
+    /// camera's aspect), and fits (waiting for the prepare: the fit is exact). Returns the new
     /// status when something happened, `None` when the file is unchanged.
-    pub fn check(&mut self, session: &mut PaintSession) -> Option<&WatchStatus> {
+    pub fn check(&mut self, session: &mut PaintSession, renderer: &mut Renderer) -> Option<&WatchStatus> {
         self.last_poll = Some(Instant::now());
         let meta = std::fs::metadata(&self.path);
         let bytes = match meta.as_ref().map_err(|e| e.to_string()).and_then(|_| std::fs::read(&self.path).map_err(|e| e.to_string())) {
@@ -91,30 +98,42 @@ impl Watcher {
             return None;
         }
         self.seen = Some(stamp);
-        self.status = match self.load(session, &bytes) {
+        self.status = match self.load(session, renderer, &bytes) {
             Ok(samples) => WatchStatus::Fitted { samples },
             Err(e) => WatchStatus::Failed(e.to_string()),
         };
         Some(&self.status)
     }
 
-    fn load(&self, session: &mut PaintSession, bytes: &[u8]) -> Result<usize> {
-        let view = &session.views[self.view];
+    fn load(&self, session: &mut PaintSession, renderer: &mut Renderer, bytes: &[u8]) -> Result<usize> {
+        let Some(view) = session.views.get(self.view) else {
+            return Err(Error::input(format!("{}: no view {} to paint", self.path.display(), self.view)));
+        };
         let painting = Painting::decode(&self.path, bytes)?;
-        if painting.width != view.width || painting.height != view.height {
-            return Err(crate::Error::format(
-                &self.path,
-                format!("the painting is {}x{} but the view is {}x{}", painting.width, painting.height, view.width, view.height),
-            ));
-        }
+        let (w, h) = (painting.width, painting.height);
+        check_painting_size(view, &self.path.display().to_string(), w, h)?;
+        // Another size of the same aspect: the view at that size, the old one kept for a failure.
+        let old_view = if (w, h) != (view.width, view.height) {
+            let resized = view.resized(renderer, w, h)?;
+            session.replace_view(self.view, resized)
+        } else {
+            None
+        };
         let before = session.views[self.view].canvas.painting().clone();
-        session.views[self.view].canvas.set_painting(&painting)?;
-        match session.settle() {
+        let result = session.views[self.view].canvas.set_painting(&painting).and_then(|()| session.settle());
+        match result {
             Ok(r) => Ok(r.samples),
             Err(e) => {
-                // Keep the canvas consistent with the material that stays.
-                let _ = session.views[self.view].canvas.set_painting(&before);
-                Err(crate::Error::input(format!("{}: {e}", self.path.display())))
+                // Keep the view and canvas consistent with the material that stays.
+                match old_view {
+                    Some(old) => {
+                        session.replace_view(self.view, old);
+                    }
+                    None => {
+                        let _ = session.views[self.view].canvas.set_painting(&before);
+                    }
+                }
+                Err(Error::input(format!("{}: {e}", self.path.display())))
             }
         }
     }

@@ -20,153 +20,14 @@
 //!
 //! Several painted views feed one fit: their patterns are concatenated (thesis 4.4).
 
-use std::path::Path;
 use std::sync::mpsc;
 use std::sync::Arc;
 use std::time::Instant;
 
-use glam::Vec2;
-use glow::HasContext;
-
-use super::canvas::{Brush, Canvas, Painting};
-use super::sample::{self, Slot};
+use super::view::PaintView;
 use crate::error::{Error, Result};
 use crate::factor::{self, Errors, Fit, LogMap, Mapping, Pattern, Prepared, Settings};
-use crate::gl::{Framebuffer, HeadlessContext};
 use crate::material::{Material, Provenance};
-use crate::render::{GpuScene, LightUniforms, ReferenceStyle, Renderer};
-use crate::scene::Scene;
-
-/// Side of the standard painting.
-pub const DEFAULT_SIZE: usize = 512;
-
-/// One view to paint: a scene (camera and light), its coloring-book guides, the pixels that
-/// are samples, and the canvas.
-pub struct PaintView {
-    /// What the UI calls it: the preset's name, or the scene file.
-    pub name: String,
-    pub scene: Scene,
-    pub width: usize,
-    pub height: usize,
-    /// Pixels that may be samples, in pixel order.
-    pub slots: Vec<Slot>,
-    /// Whether the samples carry texture coordinates (every mesh has them).
-    pub has_uv: bool,
-    /// Per pixel: the pixel sees the object.
-    pub hit: Vec<bool>,
-    /// Per pixel: an outline (silhouette, crease or occlusion line) passes here.
-    pub lines: Vec<bool>,
-    /// The reference image (Lambert + Phong under the view's light; thesis 4.1), linear RGB.
-    pub reference: Vec<[f32; 3]>,
-    pub canvas: Canvas,
-}
-
-impl PaintView {
-    /// Renders the view's G-buffer and guides at `width` × `height` and starts an empty
-    /// canvas. Errors: the camera's aspectRatio disagrees with the size by more than 1%, GL
-    /// failures, a bad camera or light.
-    pub fn new(renderer: &mut Renderer, name: &str, scene: Scene, width: usize, height: usize) -> Result<PaintView> {
-        crate::sample::check_aspect(&scene.camera, width, height, name)?;
-        let gpu = GpuScene::upload(renderer.gl(), &scene)?;
-        let g = renderer.gbuffer(&gpu, width, height)?;
-        let reference = renderer.reference(&gpu, &ReferenceStyle::default(), width, height)?;
-        LightUniforms::new(&scene.light)?;
-        let (slots, has_uv) = sample::slots(&g, &scene)?;
-        let lines = g.lines(&crate::render::OutlineStyle::default());
-        let hit = g.pixels.iter().map(|p| p.hit).collect();
-        Ok(PaintView {
-            name: name.to_string(),
-            scene,
-            width,
-            height,
-            slots,
-            has_uv,
-            hit,
-            lines,
-            reference: reference.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect(),
-            canvas: Canvas::new(width, height)?,
-        })
-    }
-
-    /// A standard view: `model` (a built-in name or a .glb/.gltf path) framed for `preset`
-    /// (thesis 4.1), `size` × `size` pixels.
-    pub fn standard(renderer: &mut Renderer, model: &str, preset: &str, size: usize) -> Result<PaintView> {
-        let scene = Scene::from_preset(model, preset)?;
-        Self::new(renderer, preset, scene, size, size)
-    }
-
-    /// Indices into [`PaintView::slots`] of the painted ones.
-    pub fn painted_slots(&self) -> Vec<u32> {
-        let alpha = &self.canvas.painting().alpha;
-        (0..self.slots.len() as u32).filter(|&s| alpha[self.slots[s as usize].pixel as usize] > 0.0).collect()
-    }
-
-    /// The sample value of slot `s` under the current painting (painted or not): the
-    /// colour divided by the light, exactly as [`crate::sample::Samples::gather`] computes it.
-    #[inline]
-    fn value(&self, s: usize) -> [f64; 3] {
-        let slot = &self.slots[s];
-        let c = self.canvas.painting().pixels[slot.pixel as usize];
-        [0, 1, 2].map(|i| c[i] as f64 / slot.light[i])
-    }
-
-    /// The region the fill tool fills from pixel `(i, j)`: the pixels of the object reachable
-    /// without crossing an interior line (crease or occlusion), plus the lines bordering
-    /// them. Outside the object: empty.
-    pub fn fill_region(&self, i: usize, j: usize) -> Vec<u32> {
-        let (w, h) = (self.width, self.height);
-        if i >= w || j >= h || !self.hit[j * w + i] {
-            return Vec::new();
-        }
-        let open = |k: usize| self.hit[k] && !self.lines[k];
-        let mut seen = vec![false; w * h];
-        let mut out = Vec::new();
-        let start = j * w + i;
-        let mut stack = vec![start];
-        seen[start] = true;
-        while let Some(k) = stack.pop() {
-            out.push(k as u32);
-            if !open(k) && k != start {
-                continue; // a line pixel is filled but does not spread
-            }
-            let (x, y) = (k % w, k / w);
-            let mut push = |n: usize| {
-                if !seen[n] && self.hit[n] {
-                    seen[n] = true;
-                    stack.push(n);
-                }
-            };
-            if x > 0 {
-                push(k - 1);
-            }
-            if x + 1 < w {
-                push(k + 1);
-            }
-            if y > 0 {
-                push(k - w);
-            }
-            if y + 1 < h {
-                push(k + w);
-            }
-        }
-        out.sort_unstable();
-        out
-    }
-
-    /// Every pixel of the object (for "fill all" and "erase all").
-    pub fn object_pixels(&self) -> Vec<u32> {
-        (0..self.hit.len() as u32).filter(|&k| self.hit[k as usize]).collect()
-    }
-
-    /// The reference image as a fully painted painting: a quick start, and the standard
-    /// test painting.
-    pub fn reference_painting(&self) -> Painting {
-        let n = self.width * self.height;
-        let pixels = self.reference.iter().zip(&self.hit).map(|(c, &hit)| if hit { *c } else { [0.0; 3] }).collect();
-        let alpha = self.hit.iter().map(|&h| if h { 1.0 } else { 0.0 }).collect();
-        Painting { width: self.width, height: self.height, pixels, alpha, saturated: vec![false; n] }
-    }
-}
 
 /// The pattern of the given slots of the given views, views in order, slots in order: the
 /// one definition both the live system and [`fit_views`] use.
@@ -202,14 +63,8 @@ pub fn fit_views(views: &[&PaintView], settings: &Settings, mapping: Mapping) ->
 }
 
 fn provenance(views: &[&PaintView], prepared: &Prepared, errors: Option<Errors>, solve_s: f64) -> Provenance {
-    Provenance {
-        tool: format!("brdfpaint {}", env!("CARGO_PKG_VERSION")),
-        sources: views.iter().map(|v| format!("painting of view '{}'", v.name)).collect(),
-        errors,
-        samples: prepared.samples(),
-        prepare_s: prepared.prepare_s,
-        solve_s,
-    }
+    let sources = views.iter().map(|v| format!("painting of view '{}'", v.name)).collect();
+    crate::pipeline::provenance(sources, errors, prepared.samples(), prepared.prepare_s, solve_s)
 }
 
 /// A prepared system and the painted slots (per view) it was prepared for.
@@ -223,11 +78,13 @@ struct System {
     gather: Vec<Vec<(u32, [f64; 3])>>,
 }
 
-/// A prepare running on a background thread.
+/// A prepare running on a background thread. It is always for the session's current
+/// settings and views: [`PaintSession::set_settings`], [`PaintSession::add_view`] and
+/// [`PaintSession::replace_view`] drop it (the thread's send then fails and its result is
+/// discarded), so nothing that arrives can be stale.
 struct Pending {
     masks: Vec<Vec<u32>>,
     versions: Vec<u64>,
-    settings: Settings,
     rx: mpsc::Receiver<Result<Prepared>>,
 }
 
@@ -315,6 +172,16 @@ impl PaintSession {
         self.views.len() - 1
     }
 
+    /// Puts `view` in place of view `k` (the same scene at another size: a painting of
+    /// another size arrived) and returns the old one. `None` when there is no view `k`.
+    pub fn replace_view(&mut self, k: usize, view: PaintView) -> Option<PaintView> {
+        let old = std::mem::replace(self.views.get_mut(k)?, view);
+        // The slots changed: whatever was prepared no longer lines up.
+        self.system = None;
+        self.pending = None;
+        Some(old)
+    }
+
     /// The current material, if anything has been fitted.
     pub fn material(&self) -> Option<&Material> {
         self.material.as_ref()
@@ -380,10 +247,7 @@ impl PaintSession {
     }
 
     fn install(&mut self, result: Result<Prepared>) -> Result<()> {
-        let p = self.pending.take().expect("a pending prepare");
-        if p.settings != self.settings {
-            return Ok(()); // settings changed meanwhile: stale
-        }
+        let Some(p) = self.pending.take() else { return Ok(()) };
         let prepared = result?;
         let gather = self
             .views
@@ -421,11 +285,11 @@ impl PaintSession {
         let pattern = pattern_of(&views, &masks);
         let settings = self.settings.clone();
         let (tx, rx) = mpsc::channel();
-        let thread_settings = settings.clone();
         std::thread::spawn(move || {
-            let _ = tx.send(factor::prepare(&pattern, &thread_settings));
+            // A dropped receiver (settings or views changed meanwhile) discards the result.
+            let _ = tx.send(factor::prepare(&pattern, &settings));
         });
-        self.pending = Some(Pending { masks, versions, settings, rx });
+        self.pending = Some(Pending { masks, versions, rx });
     }
 
     /// The mapping of a fast refit. The user's, with constants for these values; under
@@ -569,128 +433,4 @@ impl PaintSession {
         }
         Ok(self.refine()?.expect("a current system solves"))
     }
-}
-
-/// The headless stroke → refit → frame measurement (DESIGN.md: live painting must fit in one
-/// 60 Hz frame), medians in milliseconds.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
-pub struct StrokeTiming {
-    /// Painting side in pixels.
-    pub size: usize,
-    /// Samples of the painting.
-    pub samples: usize,
-    /// Unknowns of the prepared system.
-    pub unknowns: usize,
-    pub strokes: usize,
-    /// Applying the stroke to the canvas.
-    pub stroke_ms: f64,
-    /// Painted colours → sample values.
-    pub values_ms: f64,
-    /// `solve_tables` and the material.
-    pub solve_ms: f64,
-    /// Material → textures.
-    pub upload_ms: f64,
-    /// Drawing the model with the new material at `size`², to `glFinish`.
-    pub frame_ms: f64,
-    /// All of the above, per stroke.
-    pub total_ms: f64,
-    /// The background prepare for the painting (once per set of painted pixels).
-    pub prepare_ms: f64,
-}
-
-/// Measures stroke → samples → solve → upload → frame on a headless context (Mesa's software
-/// device): `model` (built-in name or file) in the front-left standard view, a `size`²
-/// painting (the reference image, fully painted), then `strokes` short strokes over the
-/// painted object, each refitting and drawing a `size`² frame of the model with the new
-/// material.
-pub fn measure_stroke_to_frame(model: &str, size: usize, strokes: usize) -> Result<StrokeTiming> {
-    let ctx = HeadlessContext::new()?;
-    let gl = ctx.gl().clone();
-    let mut renderer = Renderer::new(&gl)?;
-    let mut view = PaintView::standard(&mut renderer, model, "front-left", size)?;
-    let painting = view.reference_painting();
-    view.canvas.set_painting(&painting)?;
-    let gpu = GpuScene::upload(&gl, &view.scene)?;
-    let mut session = PaintSession::new(Settings::default(), Mapping::Auto);
-    session.add_view(view);
-    let t = Instant::now();
-    session.settle()?;
-    let prepare_ms = t.elapsed().as_secs_f64() * 1e3;
-    let target = Framebuffer::new(&gl, size, size)?;
-
-    let warm = strokes / 10 + 2;
-    let mut rows: Vec<[f64; 5]> = Vec::with_capacity(strokes);
-    let s = size as f32;
-    for k in 0..warm + strokes {
-        // A short stroke across the middle of the object, its colour changing every time.
-        let phase = k as f32 / (warm + strokes) as f32;
-        let brush = Brush {
-            color: [0.2 + 0.6 * phase, 0.3, 0.8 - 0.5 * phase],
-            radius: s / 40.0,
-            hardness: 0.6,
-            opacity: 0.8,
-            erase: false,
-        };
-        let y = s * (0.45 + 0.1 * phase);
-        let t0 = Instant::now();
-        session.views[0].canvas.stroke(brush, &[Vec2::new(0.42 * s, y), Vec2::new(0.58 * s, y)]);
-        let t1 = Instant::now();
-        let refit = session.refit()?.ok_or_else(|| Error::Numeric("no refit".into()))?;
-        let t2 = Instant::now();
-        let material = session.material().expect("refit made one");
-        let shading = renderer.upload(material)?;
-        let t3 = Instant::now();
-        target.bind();
-        // SAFETY: plain state calls on the current context.
-        unsafe {
-            gl.clear_color(0.0, 0.0, 0.0, 0.0);
-            gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
-            gl.enable(glow::DEPTH_TEST);
-        }
-        renderer.draw_factored(&gpu, &shading, size, size)?;
-        // SAFETY: waits for the GPU on the current context.
-        unsafe { gl.finish() };
-        let t4 = Instant::now();
-        if k >= warm {
-            let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1e3;
-            rows.push([ms(t0, t1), refit.values_ms, ms(t1, t2) - refit.values_ms, ms(t2, t3), ms(t3, t4)]);
-        }
-    }
-    let median = |i: usize| {
-        let mut x: Vec<f64> = rows.iter().map(|r| r[i]).collect();
-        x.sort_by(f64::total_cmp);
-        if x.is_empty() {
-            0.0
-        } else {
-            x[x.len() / 2]
-        }
-    };
-    let mut totals: Vec<f64> = rows.iter().map(|r| r.iter().sum()).collect();
-    totals.sort_by(f64::total_cmp);
-    let prepared = session.prepared_samples().unwrap_or(0);
-    Ok(StrokeTiming {
-        size,
-        samples: prepared,
-        unknowns: session.settings().unknowns(),
-        strokes,
-        stroke_ms: median(0),
-        values_ms: median(1),
-        solve_ms: median(2),
-        upload_ms: median(3),
-        frame_ms: median(4),
-        total_ms: totals.get(totals.len() / 2).copied().unwrap_or(0.0),
-        prepare_ms,
-    })
-}
-
-/// Reads a painting for `view` from a file, checking its size against the view.
-pub fn read_painting_for(view: &PaintView, path: &Path) -> Result<Painting> {
-    let p = Painting::read(path)?;
-    if p.width != view.width || p.height != view.height {
-        return Err(Error::format(
-            path,
-            format!("the painting is {}x{} but the view is {}x{}", p.width, p.height, view.width, view.height),
-        ));
-    }
-    Ok(p)
 }

@@ -127,18 +127,19 @@ struct Active {
     coverage: Vec<f32>,
 }
 
-/// A pixel rectangle `[x0, x1) × [y0, y1)`.
+/// A rectangle of canvas pixels `[x0, x1) × [y0, y1)` (what changed since the display last
+/// looked; window rectangles are the viewer's `WindowRect`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct PixelRect {
+pub struct CanvasRect {
     pub x0: usize,
     pub y0: usize,
     pub x1: usize,
     pub y1: usize,
 }
 
-impl PixelRect {
-    fn union(self, o: PixelRect) -> PixelRect {
-        PixelRect { x0: self.x0.min(o.x0), y0: self.y0.min(o.y0), x1: self.x1.max(o.x1), y1: self.y1.max(o.y1) }
+impl CanvasRect {
+    fn union(self, o: CanvasRect) -> CanvasRect {
+        CanvasRect { x0: self.x0.min(o.x0), y0: self.y0.min(o.y0), x1: self.x1.max(o.x1), y1: self.y1.max(o.y1) }
     }
 }
 
@@ -154,7 +155,7 @@ pub struct Canvas {
     index: Vec<u32>,
     mask_version: u64,
     version: u64,
-    dirty: Option<PixelRect>,
+    dirty: Option<CanvasRect>,
 }
 
 impl Canvas {
@@ -176,7 +177,7 @@ impl Canvas {
             index: vec![u32::MAX; n],
             mask_version: 0,
             version: 0,
-            dirty: Some(PixelRect { x0: 0, y0: 0, x1: w, y1: h }),
+            dirty: Some(CanvasRect { x0: 0, y0: 0, x1: w, y1: h }),
         }
     }
 
@@ -203,7 +204,7 @@ impl Canvas {
     }
 
     /// The rectangle changed since the last call, if any.
-    pub fn take_dirty(&mut self) -> Option<PixelRect> {
+    pub fn take_dirty(&mut self) -> Option<CanvasRect> {
         self.dirty.take()
     }
 
@@ -290,7 +291,7 @@ impl Canvas {
                 set_texel(&mut self.painting, k, new);
             }
         }
-        self.touch(PixelRect { x0, y0, x1, y1 }, changed_mask);
+        self.touch(CanvasRect { x0, y0, x1, y1 }, changed_mask);
     }
 
     /// Ends the stroke in progress and records it for undo.
@@ -377,13 +378,13 @@ impl Canvas {
     fn apply(&mut self, pixels: &[u32], values: &[Texel]) {
         let w = self.painting.width;
         let mut changed_mask = false;
-        let mut rect: Option<PixelRect> = None;
+        let mut rect: Option<CanvasRect> = None;
         for (&k, v) in pixels.iter().zip(values) {
             let k = k as usize;
             changed_mask |= (self.painting.alpha[k] > 0.0) != (v.rgba[3] > 0.0);
             set_texel(&mut self.painting, k, *v);
             let (i, j) = (k % w, k / w);
-            let r = PixelRect { x0: i, y0: j, x1: i + 1, y1: j + 1 };
+            let r = CanvasRect { x0: i, y0: j, x1: i + 1, y1: j + 1 };
             rect = Some(rect.map_or(r, |o| o.union(r)));
         }
         if let Some(r) = rect {
@@ -391,7 +392,7 @@ impl Canvas {
         }
     }
 
-    fn touch(&mut self, rect: PixelRect, changed_mask: bool) {
+    fn touch(&mut self, rect: CanvasRect, changed_mask: bool) {
         self.version += 1;
         if changed_mask {
             self.mask_version += 1;

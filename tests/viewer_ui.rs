@@ -1,0 +1,259 @@
+//! The viewer's UI driven headless, frame by frame, through egui with scripted input (the
+//! same `Studio::handle_input` → `Studio::ui` → `Studio::after` order as the window): keyboard
+//! shortcuts wherever egui's focus is, a side panel of stable width, status and timing in
+//! sight at 1280×800, labels that never wrap inside a word, a status that tells the state.
+#![cfg(feature = "viewer")]
+
+use brdfpaint::gl::HeadlessContext;
+use brdfpaint::render::Renderer;
+use brdfpaint::viewer::{Mode, Start, Studio, PANEL_WIDTH};
+use egui::{Event, Key, Modifiers, PointerButton, Pos2, Rect};
+
+struct Harness {
+    ctx: egui::Context,
+    studio: Studio,
+    renderer: Renderer,
+    _gl: HeadlessContext,
+    last: Option<egui::FullOutput>,
+}
+
+impl Harness {
+    fn new(mode: Mode) -> Harness {
+        let gl = HeadlessContext::new().unwrap();
+        let mut renderer = Renderer::new(gl.gl()).unwrap();
+        let start = Start {
+            model: ("sphere".into(), brdfpaint::scene::builtin_model("sphere").unwrap()),
+            material: None,
+            scene: None,
+            watch: None,
+            paint_model: "sphere".into(),
+            size: 96,
+            mode,
+            render_scale: Some(1.0),
+        };
+        let studio = Studio::new(&mut renderer, start).unwrap();
+        let mut h = Harness { ctx: egui::Context::default(), studio, renderer, _gl: gl, last: None };
+        // egui sizes panels over its first frames.
+        for _ in 0..4 {
+            h.frame(vec![]);
+        }
+        h
+    }
+
+    /// One frame at 1280×800 (one point per pixel) with these input events.
+    fn frame(&mut self, events: Vec<Event>) {
+        let mut raw = egui::RawInput {
+            screen_rect: Some(Rect::from_min_size(Pos2::ZERO, egui::vec2(1280.0, 800.0))),
+            events,
+            ..Default::default()
+        };
+        self.studio.handle_input(&self.ctx, &mut raw);
+        let (studio, renderer) = (&mut self.studio, &mut self.renderer);
+        let out = self.ctx.run_ui(raw, |ui| studio.ui(renderer, ui));
+        self.studio.after(&mut self.renderer);
+        // The window reports its frame times here; any will do.
+        self.studio.frame_done(20.0, 10.0, 25.0);
+        self.last = Some(out);
+    }
+
+    fn key(&mut self, key: Key, modifiers: Modifiers) {
+        let e = |pressed| Event::Key { key, physical_key: None, pressed, repeat: false, modifiers };
+        self.frame(vec![e(true)]);
+        self.frame(vec![e(false)]);
+    }
+
+    fn click(&mut self, p: Pos2) {
+        let button = |pressed| Event::PointerButton { pos: p, button: PointerButton::Primary, pressed, modifiers: Modifiers::NONE };
+        self.frame(vec![Event::PointerMoved(p)]);
+        self.frame(vec![button(true)]);
+        self.frame(vec![button(false)]);
+    }
+
+    /// A drag from `a` to `b` with the primary button.
+    fn drag(&mut self, a: Pos2, b: Pos2) {
+        let button = |p, pressed| Event::PointerButton { pos: p, button: PointerButton::Primary, pressed, modifiers: Modifiers::NONE };
+        self.frame(vec![Event::PointerMoved(a)]);
+        self.frame(vec![button(a, true)]);
+        for k in 1..=8 {
+            self.frame(vec![Event::PointerMoved(a + (b - a) * (k as f32 / 8.0))]);
+        }
+        self.frame(vec![button(b, false)]);
+        self.frame(vec![]);
+    }
+
+    /// Every text drawn in the last frame: its string, its rectangle, and its rows' texts.
+    fn texts(&self) -> Vec<(String, Rect, Vec<String>)> {
+        fn walk(shape: &egui::epaint::Shape, clip: Rect, out: &mut Vec<(String, Rect, Vec<String>)>) {
+            match shape {
+                egui::epaint::Shape::Text(t) => {
+                    // A row that ends a paragraph ("\n") is not a wrap: marked by a trailing '\n'.
+                    let rows = t
+                        .galley
+                        .rows
+                        .iter()
+                        .map(|r| {
+                            let mut s: String = r.row.glyphs.iter().map(|g| g.chr).collect();
+                            if r.ends_with_newline {
+                                s.push('\n');
+                            }
+                            s
+                        })
+                        .collect();
+                    let rect = Rect::from_min_size(t.pos, t.galley.size()).intersect(clip);
+                    out.push((t.galley.text().to_string(), rect, rows));
+                    let _ = t;
+                }
+                egui::epaint::Shape::Vec(v) => v.iter().for_each(|s| walk(s, clip, out)),
+                _ => {}
+            }
+        }
+        let mut out = Vec::new();
+        for c in &self.last.as_ref().unwrap().shapes {
+            walk(&c.shape, c.clip_rect, &mut out);
+        }
+        out
+    }
+
+    /// The centre of the (first) text that is exactly `label`.
+    fn find(&self, label: &str) -> Pos2 {
+        let texts = self.texts();
+        let hit = texts.iter().find(|t| t.0 == label).unwrap_or_else(|| panic!("no text '{label}' drawn"));
+        hit.1.center()
+    }
+
+    /// Puts egui's keyboard focus on a widget that is not a text field, the way a user's
+    /// Shift+Tab does (egui's own focus navigation; the viewer leaves Shift+Tab to egui).
+    fn focus_a_button(&mut self) {
+        self.key(Key::Tab, Modifiers::SHIFT);
+        let focused = self.ctx.memory(|m| m.focused());
+        assert!(focused.is_some(), "Shift+Tab put egui's focus on a widget");
+        assert!(!self.ctx.text_edit_focused(), "the focused widget is not a text field");
+    }
+
+    /// The middle of the canvas (paint mode: the square left of the 3D view).
+    fn canvas_centre(&self) -> Pos2 {
+        let view = self.studio.layout.view_rect.expect("a 3D view");
+        let side = view.x as f32 - 4.0 - PANEL_WIDTH;
+        Pos2::new(PANEL_WIDTH + side / 2.0, side / 2.0)
+    }
+}
+
+#[test]
+fn tab_switches_modes_both_ways_and_ctrl_z_undoes_with_egui_focus_on_a_button() {
+    let mut h = Harness::new(Mode::View);
+    // The user clicks the Paint button: the mode switches, by the mouse.
+    let paint = h.find("Paint");
+    h.click(paint);
+    assert_eq!(h.studio.mode, Mode::Paint);
+    // With egui's focus ring on a widget (before: Tab moved the ring instead of switching
+    // back, and the focused widget swallowed Ctrl+Z), Tab switches both ways.
+    h.focus_a_button();
+    h.key(Key::Tab, Modifiers::NONE);
+    assert_eq!(h.studio.mode, Mode::View, "the first Tab");
+    h.focus_a_button();
+    h.key(Key::Tab, Modifiers::NONE);
+    assert_eq!(h.studio.mode, Mode::Paint, "the second Tab switches back");
+
+    // A stroke on the canvas, then Ctrl+Z with the focus on a button: the painting is the
+    // one before the stroke again, exactly; Ctrl+Shift+Z brings the stroke back.
+    let before = h.studio.session().views[0].canvas.painting().clone();
+    let c = h.canvas_centre();
+    h.drag(c, c + egui::vec2(40.0, 20.0));
+    let after = h.studio.session().views[0].canvas.painting().clone();
+    let changed = (0..before.alpha.len()).filter(|&k| before.pixels[k] != after.pixels[k]).count();
+    assert!(changed > 100, "the stroke painted {changed} pixels");
+    h.focus_a_button();
+    h.key(Key::Z, Modifiers::COMMAND);
+    assert!(h.studio.session().views[0].canvas.painting() == &before, "Ctrl+Z undid the stroke");
+    h.focus_a_button();
+    h.key(Key::Z, Modifiers::COMMAND | Modifiers::SHIFT);
+    assert!(h.studio.session().views[0].canvas.painting() == &after, "Ctrl+Shift+Z redid it");
+    // B, E, F and the brackets work with the focus on a button too: E then a stroke erases.
+    h.focus_a_button();
+    h.key(Key::E, Modifiers::NONE);
+    h.key(Key::CloseBracket, Modifiers::NONE);
+    h.drag(c, c + egui::vec2(1.0, 0.0));
+    let erased = h.studio.session().views[0].canvas.painting();
+    let unpainted = erased.alpha.iter().filter(|&&a| a == 0.0).count();
+    let before_unpainted = after.alpha.iter().filter(|&&a| a == 0.0).count();
+    // The default 16 px brush grown by 1.25 is 20 px; of hardness 0.7 it erases completely
+    // within 0.7 x 20 = 14 px: about pi 14^2 = 616 pixels (the 16 px brush: 394).
+    assert!(unpainted > before_unpainted + 500, "E and ] made an eraser of radius 20: {} more unpainted", unpainted - before_unpainted);
+}
+
+#[test]
+fn the_panel_keeps_its_width_when_timings_appear_and_status_and_timing_are_in_sight() {
+    let mut h = Harness::new(Mode::Paint);
+    let width0 = h.studio.layout.panel_rect.unwrap().width;
+    let view0 = h.studio.layout.view_rect.unwrap();
+    assert!(h.studio.timings().count == 0);
+    let c = h.canvas_centre();
+    h.drag(c, c + egui::vec2(30.0, 30.0));
+    assert!(h.studio.timings().count > 0, "the stroke was timed");
+    h.frame(vec![]);
+    let width1 = h.studio.layout.panel_rect.unwrap().width;
+    // Before: 300 px, then about 331 once the timing text was there.
+    assert_eq!((width0, width1), (PANEL_WIDTH as i32, PANEL_WIDTH as i32));
+    assert_eq!(h.studio.layout.view_rect.unwrap(), view0, "the canvas and 3D view did not move");
+
+    // The stroke -> frame summary and the status line are drawn inside the window, in the
+    // panel (they used to be below its fold at 1280x800).
+    let texts = h.texts();
+    let visible = |prefix: &str| {
+        let t = texts.iter().find(|t| t.0.starts_with(prefix)).unwrap_or_else(|| panic!("no '{prefix}…' drawn"));
+        assert!(t.1.height() > 5.0 && t.1.max.y <= 800.0 && t.1.max.x <= PANEL_WIDTH, "'{}' at {:?}", t.0, t.1);
+    };
+    visible("stroke -> frame ");
+    visible("painting view 'front-left'");
+}
+
+#[test]
+fn no_label_wraps_inside_a_word() {
+    for mode in [Mode::View, Mode::Paint] {
+        let mut h = Harness::new(mode);
+        let c = h.canvas_centre();
+        if mode == Mode::Paint {
+            h.drag(c, c + egui::vec2(20.0, 0.0));
+        }
+        let mut checked = 0;
+        for (text, _, rows) in h.texts() {
+            for pair in rows.windows(2) {
+                let (a, b) = (pair[0].chars().last(), pair[1].chars().next());
+                if let (Some(a), Some(b)) = (a, b) {
+                    assert!(!(a.is_alphanumeric() && b.is_alphanumeric()), "{mode:?}: '{text}' wraps inside a word: {rows:?}");
+                }
+                checked += 1;
+            }
+        }
+        assert!(checked > 3, "{mode:?}: {checked} wrapped rows checked");
+    }
+}
+
+#[test]
+fn the_status_tells_the_current_state() {
+    let mut h = Harness::new(Mode::Paint);
+    assert!(h.studio.status().contains("example painting fitted"), "{}", h.studio.status());
+    // Clearing the canvas: the example's note is gone and the state says nothing is painted.
+    // Fold the sections above the paint tools, so the Clear button is in the panel's view.
+    for header in ["Model and material", "Camera and light", "Fit"] {
+        let p = h.find(header);
+        h.click(p);
+    }
+    // Folding is animated (egui steps 1/60 s a frame here).
+    for _ in 0..30 {
+        h.frame(vec![]);
+    }
+    let clear = h.find("Clear");
+    h.click(clear);
+    let s = h.studio.status();
+    assert!(!s.contains("example painting") && s.contains("nothing painted"), "{s}");
+    // Loading another material: the status names it.
+    let dir = tempfile::tempdir().unwrap();
+    let saved = dir.path().join("other");
+    let mut h = Harness::new(Mode::View);
+    h.studio.current_material().unwrap().save(&saved).unwrap();
+    h.studio.open_file(&mut h.renderer, &saved).unwrap();
+    h.frame(vec![]);
+    let s = h.studio.status();
+    assert!(!s.contains("example painting") && s.contains("material other") && s.contains("opened material"), "{s}");
+}
