@@ -120,8 +120,8 @@ pub fn check_jpeg_complete(bytes: &[u8]) -> std::result::Result<(), String> {
 }
 
 /// EXR values this little below zero are filtering round-off (Blender's bundled MatCaps
-/// have them, down to -5e-6), read as 0; anything more negative is an error.
-pub const NEGATIVE_NOISE: f32 = 1e-3;
+/// have them, down to -0.0017), read as 0; anything more negative is an error.
+pub const NEGATIVE_NOISE: f32 = 0.01;
 
 /// Reject sizes of zero or absurdly large.
 pub fn check_size(width: usize, height: usize) -> Result<()> {
@@ -442,6 +442,11 @@ mod painting_tests {
             let e = Painting::decode(Path::new("bad.exr"), &q.encode_exr().unwrap()).unwrap_err().to_string();
             assert!(e.contains("bad.exr") && e.contains(what) && e.contains("(2, 1)"), "{e}");
         }
+        // Filtering round-off just below zero (Blender's MatCaps) reads as 0.
+        let mut q = painting(4, 3);
+        q.pixels[6] = [-0.0017, 0.5, -1e-6];
+        let back = Painting::decode(Path::new("q.exr"), &q.encode_exr().unwrap()).unwrap();
+        assert_eq!(back.pixels[6], [0.0, 0.5, 0.0]);
     }
 
     #[test]

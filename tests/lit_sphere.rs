@@ -111,7 +111,9 @@ fn every_bundled_matcap_gets_a_front_light_and_darkens_when_the_light_goes_behin
         }
         let (lo, hi) = frames.iter().fold((f64::MAX, 0.0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
         eprintln!("{stem}: light z {z:.2}; sweep darkest/brightest {:.3}", lo / hi);
-        if lo > 0.5 * hi {
+        // The two reflection checks are calibration pictures (stripes mirrored from all
+        // around), not materials lit by a key light: nothing says they should darken.
+        if lo > 0.5 * hi && !stem.starts_with("reflection_check") {
             failures.push(format!("{stem}: darkest frame {lo:.4} > 0.5 x brightest {hi:.4}"));
         }
     }

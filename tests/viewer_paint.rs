@@ -284,6 +284,7 @@ fn dropped_files_open_models_materials_and_paintings_and_strays_are_refused() {
         size: 64,
         mode: Mode::View,
         render_scale: Some(1.0),
+        uv: Default::default(),
     };
     let mut studio = Studio::new(&mut renderer, start).unwrap();
     let dir = tempfile::tempdir().unwrap();

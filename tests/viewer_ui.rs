@@ -30,6 +30,7 @@ impl Harness {
             size: 96,
             mode,
             render_scale: Some(1.0),
+            uv: Default::default(),
         };
         let studio = Studio::new(&mut renderer, start).unwrap();
         let mut h = Harness { ctx: egui::Context::default(), studio, renderer, _gl: gl, last: None };

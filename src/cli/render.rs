@@ -8,7 +8,7 @@ use brdfpaint::gl::{HeadlessContext, Limits};
 use brdfpaint::material::Material;
 use brdfpaint::render::orbit::{orbit_centre, orbit_frame};
 use brdfpaint::render::{GpuScene, Orbit, Renderer};
-use brdfpaint::scene::{self, Projection, Scene};
+use brdfpaint::scene::{self, Projection, Scene, UvRule};
 
 /// Default image height (and width, unless a scene's camera sets the aspect).
 const DEFAULT_SIDE: usize = 512;
@@ -124,6 +124,10 @@ pub(super) struct RenderArgs {
     /// N frames with the light orbiting the model's vertical axis (the camera stays).
     #[arg(long, value_name = "N")]
     light_sweep: Option<usize>,
+    /// Texture coordinates: auto (the mesh's, or a spherical projection where it has none),
+    /// mesh, spherical or box. Spatially varying materials need them.
+    #[arg(long, value_name = "RULE", default_value = "auto")]
+    uv: UvRule,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -151,13 +155,18 @@ pub(super) fn run(args: RenderArgs) -> Result<()> {
     let material = Material::load(&args.material)?;
     let json = if args.material.is_dir() { args.material.join("material.json") } else { args.material.clone() };
     brdfpaint::render::check(&material).map_err(|e| Error::format(&json, e.to_string()))?;
-    let Resolved { scene, width, height, name } = args.scene.resolve()?;
+    let Resolved { mut scene, width, height, name } = args.scene.resolve()?;
+    let (meshes, note) = args.uv.apply(std::mem::take(&mut scene.meshes));
+    scene.meshes = meshes;
     if material.needs_uv() {
         if let Some(k) = scene.meshes.iter().position(|m| m.uvs.is_none()) {
             return Err(Error::input(format!(
-                "{}: the material looks up texture coordinates (a uv factor or coefficient textures) but mesh {k} of {name} has none",
+                "{}: the material looks up texture coordinates (a uv factor or coefficient textures) but mesh {k} of {name} has none; give --uv spherical or --uv box",
                 json.display()
             )));
+        }
+        if let Some(note) = note {
+            eprintln!("note: {name}: {note}");
         }
     }
 

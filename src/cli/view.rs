@@ -17,6 +17,10 @@ pub(super) struct ViewArgs {
     /// teapot, apple, fox).
     #[arg(long, value_name = "M.glb|NAME", default_value = "bunny")]
     model: String,
+    /// Texture coordinates of the models shown: auto (the mesh's, or a spherical projection
+    /// where it has none), mesh, spherical or box, as in `render`.
+    #[arg(long, value_name = "RULE", default_value = "auto")]
+    uv: brdfpaint::scene::UvRule,
     /// Paint (or watch) a view of this scene instead of the standard views.
     #[arg(long, value_name = "S.gltf")]
     scene: Option<PathBuf>,
@@ -83,6 +87,7 @@ pub(super) fn run(args: ViewArgs) -> Result<()> {
         size: args.size,
         mode,
         render_scale: args.render_scale,
+        uv: args.uv,
     };
     let hold = if args.hold.is_finite() && args.hold > 0.0 { Duration::from_secs_f64(args.hold.min(3600.0)) } else { Duration::ZERO };
     viewer::run(Options { start, window, frames: args.frames.map(|n| n.max(1)), screenshot: args.screenshot, hold })

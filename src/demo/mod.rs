@@ -46,7 +46,7 @@ use crate::images::Painting;
 use crate::material::{Kind, Material};
 use crate::pipeline;
 use crate::render::{GpuScene, Image, Sheet};
-use crate::scene::spherical_uvs;
+use crate::scene::UvRule;
 use crate::study::fidelity::held_out_presets;
 use crate::study::{held_out_error, Coverage, StudyView};
 use crate::sample::{Erosion, PaintedView, SceneSampler};
@@ -262,7 +262,7 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
     std::fs::create_dir_all(&renders_dir).map_err(|e| Error::io(&renders_dir, e))?;
     let mut scenes: Vec<(&str, Scene)> = vec![("sphere", Scene::load(&scene_paths[0])?)];
     for r in retargets() {
-        scenes.push((r.model, frame(spherical_uvs(builtin_model(r.model)?), &r.preset, 1.0)));
+        scenes.push((r.model, frame(UvRule::Auto.apply(builtin_model(r.model)?).0, &r.preset, 1.0)));
     }
     let renderer = sampler.renderer();
     let gpu_scenes: Vec<GpuScene> =

@@ -104,7 +104,7 @@ mod uv;
 mod write;
 
 pub use mesh::BoundingSphere;
-pub use uv::spherical_uvs;
+pub use uv::{box_uvs, spherical_uvs, UvRule};
 pub use preset::{
     builtin_model, builtin_models, frame, model_meshes, preset, preset_names, presets, sphere_mesh, Preset,
 };

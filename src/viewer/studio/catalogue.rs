@@ -5,7 +5,7 @@ use std::path::Path;
 use crate::error::Result;
 use crate::live::PaintSession;
 use crate::material::Material;
-use crate::scene::{builtin_models, model_meshes, CpuMesh};
+use crate::scene::{builtin_models, model_meshes, CpuMesh, UvRule};
 
 /// A model the 3D view can show. Built-in models are loaded when first picked.
 pub(super) struct ModelEntry {
@@ -25,12 +25,15 @@ pub(super) struct Catalogue {
     pub model: usize,
     pub materials: Vec<MaterialEntry>,
     pub material: usize,
+    /// Where every model's texture coordinates come from (`view --uv`), as in `render`.
+    pub uv: UvRule,
 }
 
 impl Catalogue {
     /// The built-in models and the live painting's material, plus what the command line
     /// named; those are shown.
-    pub fn new(model: (String, Vec<CpuMesh>), material: Option<(String, Material)>) -> Catalogue {
+    pub fn new(model: (String, Vec<CpuMesh>), material: Option<(String, Material)>, uv: UvRule) -> Catalogue {
+        let model = (model.0, uv.apply(model.1).0);
         let mut models: Vec<ModelEntry> =
             builtin_models().iter().map(|n| ModelEntry { name: n.to_string(), meshes: Vec::new() }).collect();
         let shown = match models.iter().position(|m| m.name == model.0) {
@@ -48,6 +51,7 @@ impl Catalogue {
             model: shown,
             materials: vec![MaterialEntry { name: LIVE.into(), material: None }],
             material: 0,
+            uv,
         };
         if let Some((name, m)) = material {
             catalogue.add_material(name, m);
@@ -84,7 +88,7 @@ impl Catalogue {
 
     /// Adds a model (not shown yet); its index.
     pub fn add_model(&mut self, name: String, meshes: Vec<CpuMesh>) -> usize {
-        self.models.push(ModelEntry { name, meshes });
+        self.models.push(ModelEntry { name, meshes: self.uv.apply(meshes).0 });
         self.models.len() - 1
     }
 
@@ -92,7 +96,7 @@ impl Catalogue {
     pub fn meshes(&mut self, k: usize) -> Result<&[CpuMesh]> {
         let entry = &mut self.models[k];
         if entry.meshes.is_empty() {
-            entry.meshes = model_meshes(&entry.name)?;
+            entry.meshes = self.uv.apply(model_meshes(&entry.name)?).0;
         }
         Ok(&entry.meshes)
     }

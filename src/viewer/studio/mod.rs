@@ -74,6 +74,8 @@ pub struct Start {
     /// [`super::display::View3d::draw`]); `None`: chosen from frame times
     /// ([`super::render_scale`]).
     pub render_scale: Option<f32>,
+    /// Where models' texture coordinates come from.
+    pub uv: crate::scene::UvRule,
 }
 
 /// Where things are in the window, from the last [`Studio::ui`].
@@ -108,7 +110,7 @@ impl Studio {
     /// The starting state; renders the first paint view (and fits its example painting when
     /// there is no `--scene`).
     pub fn new(renderer: &mut Renderer, start: Start) -> Result<Studio> {
-        let catalogue = Catalogue::new(start.model, start.material);
+        let catalogue = Catalogue::new(start.model, start.material, start.uv);
         let render_scale = start.render_scale.map_or_else(RenderScale::automatic, RenderScale::fixed);
         let stage = Stage::new(renderer, &catalogue.models[catalogue.model].meshes, render_scale)?;
         let fit = FitControls::default();
