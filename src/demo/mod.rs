@@ -263,7 +263,7 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
     let t = Instant::now();
     let renders_dir = tmp.join("renders");
     std::fs::create_dir_all(&renders_dir).map_err(|e| Error::io(&renders_dir, e))?;
-    let mut scenes: Vec<Scene> = scene_paths.iter().map(|p| Scene::load(p)).collect::<Result<_>>()?;
+    let mut scenes: Vec<Scene> = scene_paths.iter().map(Scene::load).collect::<Result<_>>()?;
     for r in retargets() {
         scenes.push(frame(spherical_uvs(builtin_model(r.model)?), &r.preset, 1.0));
     }
