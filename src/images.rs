@@ -2,6 +2,8 @@
 //! linear; the sRGB transfer function is applied only at the file boundary (DESIGN.md,
 //! Colour).
 
+pub mod text;
+
 use std::io::Cursor;
 use std::path::Path;
 

@@ -87,9 +87,11 @@ fn fit_writes_the_material_its_report_and_its_errors() {
     assert_eq!(m.provenance.sources, vec![s(&scene).to_string(), s(&painting).to_string()]);
     let json = std::fs::read_to_string(out.join("material.json")).unwrap();
     assert!(json.contains("\"rms_relative\""), "{json}");
-    // The report: painting | fit | residual, with 4 px gaps.
+    // The report: painting | fit | residual with 4 px gaps inside a 4 px margin, and words at
+    // scale 1 (labels 13 px high) with 4 px gaps: the panels' names, the view's title, and a
+    // legend of two lines below: 4 + 13 + 4 + 13 + 4 + 128 + 4 + 4 + 30 + 4.
     let report = image::open(out.join("report.png")).unwrap();
-    assert_eq!((report.width(), report.height()), (3 * 128 + 8, 128));
+    assert_eq!((report.width(), report.height()), (4 + 3 * 128 + 8 + 4, 128 + 80));
 }
 
 #[test]
@@ -130,7 +132,9 @@ fn several_views_concatenate() {
     let m = Material::load(&out).unwrap();
     assert_eq!(m.provenance.sources.len(), 4);
     let report = image::open(out.join("report.png")).unwrap();
-    assert_eq!((report.width(), report.height()), (3 * 96 + 8, 2 * 96 + 4));
+    // Each further view adds its title and a gap (13 + 4 + 4); the legend's first line (340
+    // px at scale 1) is wider than three 96 px panels.
+    assert_eq!((report.width(), report.height()), (4 + 340 + 4, 2 * 96 + 80 + 21));
 }
 
 /// Every bad input: exit 1, one line on stderr that names the file, nothing written.

@@ -12,14 +12,16 @@
 //!    judged against it on three lights and views nobody painted, at each pixel's whole
 //!    query (uv included); the wood, on the pixels whose surface point a painting saw, and
 //!    also as one uniform product, for comparison.
-//! 4. The recovered materials are rendered on the sphere they were painted on and retargeted
+//! 4. The recovered materials are rendered on the sphere they were painted on (from the view
+//!    whose painting the contact sheet shows beside it, [`shown_view`]) and retargeted
 //!    onto the bunny, Suzanne and the teapot under new lights ([`retargets`]); those have no
 //!    uvs, and get the sphere's by spherical projection, so a material map wraps around them.
-//! 5. A contact sheet ([`contact`]) and a one-screen summary.
+//! 5. A contact sheet ([`contact`]), labelled, and a one-screen summary.
 //!
 //! ```text
 //! DIR/summary.txt            the summary (its first line marks DIR as a demo directory)
-//! DIR/contact.png            rows = materials; painting | fit | bunny | suzanne | teapot
+//! DIR/contact.png            rows = materials (named, with what they were painted from);
+//!                            painting | fit, painted view | bunny | suzanne | teapot
 //! DIR/contact-small.png      the same at half size
 //! DIR/sheet/, DIR/sheet-2/   outline.png, reference.png, mask.png, scene.gltf
 //! DIR/paintings/*.png        the bundled paintings (wood.png, wood-2.png: the spatially varying one)
@@ -256,22 +258,24 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
     }
     stages.held_out = t.elapsed().as_secs_f64();
 
-    // 4. Renders: on the painted sphere, and retargeted.
+    // 4. Renders: on the painted sphere, seen from the view (and under the light) of the
+    // painting the contact sheet shows beside it, and retargeted.
     let t = Instant::now();
     let renders_dir = tmp.join("renders");
     std::fs::create_dir_all(&renders_dir).map_err(|e| Error::io(&renders_dir, e))?;
-    let mut scenes: Vec<(&str, Scene)> = vec![("sphere", Scene::load(&scene_paths[0])?)];
+    let mut scenes: Vec<Scene> = scene_paths.iter().map(Scene::load).collect::<Result<_>>()?;
     for r in retargets() {
-        scenes.push((r.model, frame(UvRule::Auto.apply(builtin_model(r.model)?).0, &r.preset, 1.0)));
+        scenes.push(frame(UvRule::Auto.apply(builtin_model(r.model)?).0, &r.preset, 1.0));
     }
     let renderer = sampler.renderer();
-    let gpu_scenes: Vec<GpuScene> =
-        scenes.iter().map(|(_, s)| GpuScene::upload(renderer.gl(), s)).collect::<Result<_>>()?;
+    let gpu_scenes: Vec<GpuScene> = scenes.iter().map(|s| GpuScene::upload(renderer.gl(), s)).collect::<Result<_>>()?;
     let mut renders: Vec<Vec<Image>> = Vec::new();
     for (spec, f) in specs.iter().zip(&fitted) {
         let gpu = renderer.upload(&f.material)?;
+        let sphere = (&gpu_scenes[shown_view(spec)], "sphere");
+        let retargeted = gpu_scenes[views.len()..].iter().zip(retargets()).map(|(s, r)| (s, r.model));
         let mut row = Vec::new();
-        for ((model, _), scene) in scenes.iter().zip(&gpu_scenes) {
+        for (scene, model) in std::iter::once(sphere).chain(retargeted) {
             let image = renderer.factored(scene, &gpu, SIZE, SIZE)?;
             image.to_rgb().write_png(&renders_dir.join(format!("{}-{model}.png", spec.name)))?;
             row.push(image);
@@ -280,15 +284,21 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
     }
     stages.renders = t.elapsed().as_secs_f64();
 
-    // 5. The contact sheet: the painting of each row is its last view's.
+    // 5. The contact sheet: each row's painting is its last view's, beside the fit seen
+    // from that view under that view's light.
     let t = Instant::now();
-    let shown: Vec<&Painting> = fitted.iter().map(|f| f.last_painting()).collect();
-    let tiles: Vec<Vec<contact::Tile>> = shown
+    let columns = contact_columns();
+    let sheet_rows: Vec<contact::Row> = specs
         .iter()
+        .zip(&fitted)
         .zip(&renders)
-        .map(|(p, r)| std::iter::once(contact::Tile::Painting(p)).chain(r.iter().map(contact::Tile::Render)).collect())
+        .map(|((spec, f), r)| contact::Row {
+            name: spec.name.to_string(),
+            caption: contact_caption(spec, &f.row.description),
+            tiles: std::iter::once(contact::Tile::Painting(f.last_painting())).chain(r.iter().map(contact::Tile::Render)).collect(),
+        })
         .collect();
-    let sheet = contact::compose(SIZE, &tiles)?;
+    let sheet = contact::compose(SIZE, &columns.each_ref().map(String::as_str), &sheet_rows)?;
     sheet.write_png(&tmp.join("contact.png"))?;
     contact::downsample(&sheet, 2)?.write_png(&tmp.join("contact-small.png"))?;
     stages.contact = t.elapsed().as_secs_f64();
@@ -297,6 +307,32 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
     let summary = summary(&rows, &stages, dir, cache, total_s);
     crate::util::write_atomic(&tmp.join("summary.txt"), summary.as_bytes())?;
     Ok(Report { rows, summary, total_s })
+}
+
+/// The painted view the contact sheet shows for `spec`: its last painting's.
+pub fn shown_view(spec: &MaterialSpec) -> usize {
+    spec.paintings.last().expect("a material has a painting").view
+}
+
+/// The names of the contact sheet's columns.
+pub fn contact_columns() -> [String; contact::COLUMNS] {
+    let [a, b, c] = retargets().map(|r| format!("{}, new light", r.model));
+    ["painting".into(), "fit, painted view".into(), a, b, c]
+}
+
+/// What a contact sheet row says after its material's name: what was painted, in which
+/// views (named by their sheet directories), and which view the row shows.
+fn contact_caption(spec: &MaterialSpec, description: &str) -> String {
+    let dirs: Vec<String> = spec.paintings.iter().map(|p| format!("{}/", paintings::views()[p.view].dir)).collect();
+    match dirs.as_slice() {
+        [one] => format!("{description}, painted in {one}"),
+        _ => format!(
+            "{}, painted in {}; {}/ shown",
+            description.trim_end_matches(" (ABC)"),
+            dirs.join(" and "),
+            paintings::views()[shown_view(spec)].dir
+        ),
+    }
 }
 
 /// A fitted material and what the summary says about it.
@@ -437,7 +473,7 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
         stages.contact * 1e3,
         total_s
     );
-    let _ = writeln!(s, "wrote {d}/: contact.png, summary.txt, sheet/, sheet-2/, paintings/, materials/, renders/");
+    let _ = writeln!(s, "wrote {d}/: contact.png, contact-small.png, summary.txt, sheet/, sheet-2/, paintings/, materials/, renders/");
     s
 }
 
