@@ -686,13 +686,15 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         // The camera's aspectRatio is 1; a 2:1 image disagrees.
         check(&["--scene", s(&good), "--size", "64x32"], "aspect");
     }
-    // A material that needs uvs on a model without them (the bunny).
+    // A material that needs uvs on a model without them (the bunny), when only the mesh's
+    // own may be used (--uv mesh; the default projects them: tests/cli_render.rs
+    // `uv_rule_projects_coordinates_where_a_model_has_none`).
     let uv_mat = root.join("uv-mat");
     let mut m = Material::load(&mat).unwrap();
     m.terms[0].coefficients = Some(brdfpaint::material::Coefficients::grey(2, &[1.0; 4]));
     m.save(&uv_mat).unwrap();
     fails(
-        &["render", s(&uv_mat), "--model", "bunny", "--size", "32x32", "--out", s(&r_png)],
+        &["render", s(&uv_mat), "--model", "bunny", "--uv", "mesh", "--size", "32x32", "--out", s(&r_png)],
         "texture coordinates",
         &out_dir,
     );
@@ -744,4 +746,40 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
 fn assert_within_one_code(code: u8, want: f64, what: impl Fn() -> String) {
     let step = (code as f64 / 255.0 - linear_to_srgb(want as f32) as f64).abs();
     assert!(step <= 1.0 / 255.0 + 1e-6, "{}: code {code} vs linear {want}", what());
+}
+
+/// `--uv` (one rule for `render`, `view` and the demo): by default a model without texture
+/// coordinates gets a spherical projection, with a note; on the built-in sphere, whose own
+/// layout is that projection, `--uv mesh` and `--uv spherical` draw the same picture; a box
+/// projection draws another.
+#[test]
+fn uv_rule_projects_coordinates_where_a_model_has_none() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, base) = fitted_material(dir.path());
+    // Coefficients that grow with u: the left and right of the picture differ.
+    let mut m = base.clone();
+    m.terms[0].coefficients = Some(brdfpaint::material::Coefficients::grey(2, &[0.1, 1.0, 0.1, 1.0]));
+    let mat = dir.path().join("uv-mat");
+    m.save(&mat).unwrap();
+    let render = |extra: &[&str], name: &str| -> (String, Vec<[u8; 3]>) {
+        let out = dir.path().join(name);
+        let mut args = vec!["render", s(&mat), "--size", "48x48", "--out", s(&out)];
+        args.extend_from_slice(extra);
+        let (code, _, stderr) = brdfpaint(&args);
+        assert_eq!(code, 0, "{args:?}: {stderr}");
+        (stderr, png(&out).2)
+    };
+    let (note, bunny) = render(&["--model", "bunny"], "bunny.png");
+    assert!(note.contains("spherical projection") && note.lines().count() == 1, "{note}");
+    assert!(bunny.iter().any(|p| p[0] > 0), "the bunny is drawn");
+    let (quiet, mesh) = render(&["--model", "sphere", "--uv", "mesh"], "mesh.png");
+    assert!(quiet.is_empty(), "{quiet}");
+    let (_, spherical) = render(&["--model", "sphere", "--uv", "spherical"], "spherical.png");
+    let differ = |a: &[[u8; 3]], b: &[[u8; 3]]| a.iter().zip(b).filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 2)).count();
+    // Pixels at the seam (u wraps) may differ.
+    assert!(differ(&mesh, &spherical) <= 12, "{} pixels differ", differ(&mesh, &spherical));
+    let (_, boxed) = render(&["--model", "sphere", "--uv", "box"], "box.png");
+    assert!(differ(&mesh, &boxed) > 200, "a box projection is another layout");
+    let (code, _, stderr) = brdfpaint(&["render", s(&mat), "--model", "sphere", "--uv", "cube", "--out", s(&dir.path().join("x.png"))]);
+    assert_eq!((code, stderr.lines().count()), (2, 1), "{stderr}");
 }
