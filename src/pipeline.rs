@@ -97,20 +97,34 @@ pub fn sources(views: &[PaintedView]) -> Vec<String> {
     views.iter().flat_map(|v| [v.source.clone(), v.name.clone()]).collect()
 }
 
+/// Views loaded for a fit, and what the user should hear about them.
+pub struct Loaded {
+    pub views: Vec<PaintedView>,
+    /// One line each: what was left out of a painting and why.
+    pub notes: Vec<String>,
+}
+
 /// Loads each (scene, painting) pair as a view and checks they paint one model (thesis
-/// 4.4). Errors name the file.
-pub fn load_views(sampler: &mut SceneSampler, pairs: &[(PathBuf, PathBuf)], erosion: Erosion) -> Result<Vec<PaintedView>> {
-    let mut views = Vec::new();
+/// 4.4). A painting made on the sheet's page loses the page's own pixels (its lines and its
+/// untouched white: [`crate::sample::page`]). Errors name the file.
+pub fn load_views(sampler: &mut SceneSampler, pairs: &[(PathBuf, PathBuf)], erosion: Erosion) -> Result<Loaded> {
+    let mut loaded = Loaded { views: Vec::new(), notes: Vec::new() };
     let mut first = None;
     for (scene_path, image_path) in pairs {
-        let (scene, view) = sampler.load_view(scene_path, image_path, erosion)?;
+        let (scene, mut view) = sampler.load_view(scene_path, image_path, erosion)?;
+        let g = sampler.gbuffer(&scene, view.painting.width, view.painting.height)?;
+        let hit: Vec<bool> = g.pixels.iter().map(|p| p.hit).collect();
+        let lines = g.lines(&crate::render::OutlineStyle::default());
+        if let Some(left) = crate::sample::page::remove_page(&mut view.painting, &lines, &hit) {
+            loaded.notes.push(left.describe(&view.name));
+        }
         match &first {
             None => first = Some((scene, scene_path.display().to_string())),
             Some((f, name)) => check_same_model(f, name, &scene, &scene_path.display().to_string())?,
         }
-        views.push(view);
+        loaded.views.push(view);
     }
-    Ok(views)
+    Ok(loaded)
 }
 
 /// A prepared system and one solve on it.

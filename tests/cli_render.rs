@@ -151,8 +151,16 @@ fn sheet_round_trips_its_scene_and_its_images_agree_with_the_geometry() {
     let mut names: Vec<String> =
         std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
     names.sort();
-    assert_eq!(names, ["mask.png", "outline.png", "reference.png", "scene.gltf"]);
-    assert_eq!(listing(dir.path()).len(), 5, "no temporary files left: {:?}", listing(dir.path()));
+    assert_eq!(names, ["mask.png", "outline.png", "page.png", "reference.png", "scene.gltf"]);
+    assert_eq!(listing(dir.path()).len(), 6, "no temporary files left: {:?}", listing(dir.path()));
+    // page.png: the outline's black lines, opaque, on a transparent layer.
+    let page = image::open(out.join("page.png")).unwrap().into_rgba8();
+    let (_, _, outline) = png(&out.join("outline.png"));
+    assert_eq!(page.dimensions(), (w as u32, h as u32));
+    for (p, o) in page.pixels().zip(&outline) {
+        let line = o[0] < 128;
+        assert_eq!(p.0, if line { [0, 0, 0, 255] } else { [0, 0, 0, 0] });
+    }
 
     // scene.gltf is the preset scene framed at aspect W/H.
     let preset = scene::preset("front-left").unwrap();
@@ -422,7 +430,7 @@ fn sheet_over_an_earlier_sheet_keeps_other_files() {
     ok(&["sheet", "--model", "sphere", "--preset", "back", "--size", "40x40", "--out", s(&out)]);
     assert_eq!(std::fs::read(out.join("painting.png")).unwrap(), b"my painting");
     assert_ne!(std::fs::read(out.join("scene.gltf")).unwrap(), before, "the scene was replaced");
-    assert_eq!(listing(dir.path()).len(), 6, "{:?}", listing(dir.path()));
+    assert_eq!(listing(dir.path()).len(), 7, "{:?}", listing(dir.path()));
 }
 
 #[test]

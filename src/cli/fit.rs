@@ -278,7 +278,10 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
     let erosion = Erosion { radius: args.erode, neighbours: Neighbours::Eight };
     let mut sampler = SceneSampler::new()?;
     let pairs: Vec<(PathBuf, PathBuf)> = args.scene.iter().cloned().zip(args.image.iter().cloned()).collect();
-    let views = pipeline::load_views(&mut sampler, &pairs, erosion)?;
+    let pipeline::Loaded { views, notes } = pipeline::load_views(&mut sampler, &pairs, erosion)?;
+    for note in &notes {
+        println!("note: {note}");
+    }
     let fitted = pipeline::fit(&views, opts, Cache::user().as_ref())?;
     if let Some((report, _)) = &fitted.map {
         let what = match opts.map.method {

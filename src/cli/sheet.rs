@@ -12,7 +12,7 @@ use brdfpaint::render::Renderer;
 pub(super) struct SheetArgs {
     #[command(flatten)]
     scene: SceneArgs,
-    /// Output directory: outline.png, reference.png, mask.png, scene.gltf. A new or empty
+    /// Output directory: outline.png, page.png, reference.png, mask.png, scene.gltf. A new or empty
     /// directory, or an earlier sheet (its four files are replaced, other files kept).
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
@@ -27,9 +27,11 @@ pub(super) fn run(args: SheetArgs) -> Result<()> {
     sheet.save(&scene, &args.out)?;
     let dir = args.out.display();
     println!(
-        "sheet of {name} at {width}x{height} in {dir}: outline.png, reference.png (exposure {:.4}), mask.png ({} pixels), scene.gltf",
+        "sheet of {name} at {width}x{height} in {dir}: outline.png, page.png, reference.png (exposure {:.4}), mask.png ({} pixels), scene.gltf",
         sheet.exposure, sheet.coverage
     );
-    println!("paint on outline.png, then: brdfpaint fit --scene {dir}/scene.gltf --image painting.png --out MAT");
+    println!(
+        "paint on page.png (lines on a transparent layer) or outline.png; leave gaps and lines as they are, then: brdfpaint fit --scene {dir}/scene.gltf --image painting.png --out MAT"
+    );
     Ok(())
 }

@@ -363,7 +363,7 @@ fn fit_material(
 ) -> Result<Fitted> {
     let pairs: Vec<(PathBuf, PathBuf)> =
         spec.paintings.iter().map(|p| (scene_paths[p.view].clone(), tmp.join("paintings").join(p.file))).collect();
-    let mut views = pipeline::load_views(sampler, &pairs, Erosion::default())?;
+    let mut views = pipeline::load_views(sampler, &pairs, Erosion::default())?.views;
     // Name the files as they are in DIR, not in the temporary directory.
     for (view, p) in views.iter_mut().zip(&spec.paintings) {
         view.name = format!("paintings/{}", p.file);

@@ -3,14 +3,17 @@
 //!
 //! ```text
 //! DIR/outline.png     black lines on white: silhouettes, creases, occlusion contours
+//! DIR/page.png        the same lines on a transparent layer: the page to paint on
 //! DIR/reference.png   Lambert + Phong under the scene's light, to show where light comes from
 //! DIR/mask.png        white where a pixel centre sees the object, black elsewhere
 //! DIR/scene.gltf      the exact scene (meshes, camera, light) of the three images
 //! ```
 //!
 //! All three images cover exactly the pixels the sampler of a painting of this size sees
-//! (same vertex stage, same pixel centres). A painting made on `outline.png` is fitted with
-//! `brdfpaint fit --scene DIR/scene.gltf --image painting.png`.
+//! (same vertex stage, same pixel centres). A painting made on `page.png` (or on the opaque
+//! `outline.png`), gaps and lines left in, is fitted with `brdfpaint fit --scene
+//! DIR/scene.gltf --image painting.png`: the fit leaves out what the page put there
+//! ([`crate::sample::page`]).
 
 use std::path::Path;
 
@@ -21,6 +24,9 @@ use crate::scene::{Light, Scene};
 
 /// The files of a sheet directory, in the order they are written.
 pub const SHEET_FILES: [&str; 4] = ["outline.png", "reference.png", "mask.png", "scene.gltf"];
+/// The page to paint on: the outline's lines, opaque black, on a transparent layer. Written
+/// with the others; a sheet written before it existed lacks it.
+pub const PAGE_FILE: &str = "page.png";
 
 /// The images of a sheet, linear RGBA, row 0 at the top.
 #[derive(Clone, Debug)]
@@ -28,6 +34,8 @@ pub struct Sheet {
     pub outline: Image,
     pub reference: Image,
     pub mask: Image,
+    /// Per pixel: an outline passes here (the lines of `outline.png` and `page.png`).
+    pub lines: Vec<bool>,
     /// The factor [`ReferenceStyle::exposure`] the reference was drawn with
     /// ([`reference_exposure`]).
     pub exposure: f32,
@@ -71,6 +79,7 @@ impl Sheet {
         let reference = renderer.reference(&gpu, &style, width, height)?;
         Ok(Sheet {
             outline: g.outline(&OutlineStyle::default()),
+            lines: g.lines(&OutlineStyle::default()),
             reference,
             mask: g.mask(),
             exposure,
@@ -86,7 +95,7 @@ impl Sheet {
     pub fn save(&self, scene: &Scene, dir: &Path) -> Result<()> {
         Target::of(dir)?;
         // The four files appear together in one atomic step, the user's other files kept.
-        let staged = crate::commit::StagedDir::new(dir, Box::new(|name| SHEET_FILES.iter().any(|f| name == *f)))?;
+        let staged = crate::commit::StagedDir::new(dir, Box::new(|name| name == PAGE_FILE || SHEET_FILES.iter().any(|f| name == *f)))?;
         staged.fill(|tmp| self.write_into(scene, tmp))?;
         staged.commit()
     }
@@ -95,7 +104,19 @@ impl Sheet {
         self.outline.to_rgb().write_png(&dir.join(SHEET_FILES[0]))?;
         self.reference.to_rgb().write_png(&dir.join(SHEET_FILES[1]))?;
         self.mask.to_rgb().write_png(&dir.join(SHEET_FILES[2]))?;
-        scene.write_gltf(dir.join(SHEET_FILES[3]))
+        scene.write_gltf(dir.join(SHEET_FILES[3]))?;
+        self.write_page(&dir.join(PAGE_FILE))
+    }
+
+    /// `page.png`: 8-bit RGBA, black and opaque on the lines, transparent elsewhere, so a
+    /// painting program opens it as a layer of lines over nothing.
+    fn write_page(&self, path: &Path) -> Result<()> {
+        let (w, h) = (self.outline.width, self.outline.height);
+        let bytes: Vec<u8> = self.lines.iter().flat_map(|&l| if l { [0, 0, 0, 255] } else { [0, 0, 0, 0] }).collect();
+        let img = image::RgbaImage::from_raw(w as u32, h as u32, bytes).ok_or_else(|| Error::format(path, "page size mismatch"))?;
+        let mut out = std::io::Cursor::new(Vec::new());
+        img.write_to(&mut out, image::ImageFormat::Png).map_err(|e| Error::format(path, e.to_string()))?;
+        crate::util::write_atomic(path, out.get_ref())
     }
 }
 

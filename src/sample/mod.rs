@@ -38,6 +38,7 @@
 //! # Ok::<(), brdfpaint::Error>(())
 //! ```
 
+pub mod page;
 pub mod photo;
 pub mod report;
 pub mod scene;
