@@ -38,6 +38,7 @@ pub mod cli;
 pub mod demo;
 pub mod error;
 pub mod factor;
+pub mod faults;
 pub mod gl;
 pub mod images;
 pub mod material;

@@ -220,7 +220,7 @@ impl Prepared {
 
     /// Check values: one per sample, finite, non-negative, not all zero. Returns the
     /// per-channel maximum.
-    fn check(&self, values: &[[f64; 3]]) -> Result<[f64; 3]> {
+    pub(crate) fn check(&self, values: &[[f64; 3]]) -> Result<[f64; 3]> {
         if values.len() != self.samples() {
             return Err(Error::input(format!(
                 "{} values for a pattern of {} samples",
