@@ -108,5 +108,22 @@ fn main() -> brdfpaint::Result<()> {
             }
         }
     }
+    // Solve times on one painting's samples (the clean front-left view).
+    let painted = [FaultyView::new(&mut sampler, &painted_presets(1)[0], size, 0.0)?];
+    let view = faults::paint(&painted[0], &models[1], &Faults::all())?;
+    let samples = brdfpaint::sample::Samples::gather(&[view])?;
+    let prepared = brdfpaint::factor::prepare(&samples.pattern, &settings)?;
+    let time = |f: &dyn Fn()| {
+        let mut t: Vec<f64> = (0..15).map(|_| { let s = std::time::Instant::now(); f(); s.elapsed().as_secs_f64() * 1e3 }).collect();
+        t.sort_by(f64::total_cmp);
+        t[7]
+    };
+    let map = prepared.solve(&samples.values, Mapping::Offset(None))?.map;
+    println!("{} samples: solve auto {:.2} ms, solve_robust auto {:.2} ms, solve_tables {:.3} ms, solve_robust_tables {:.2} ms (medians of 15)",
+        samples.len(),
+        time(&|| { prepared.solve(&samples.values, Mapping::Auto).unwrap(); }),
+        time(&|| { prepared.solve_robust(&samples.values, Mapping::Auto, &chosen).unwrap(); }),
+        time(&|| { prepared.solve_tables(&samples.values, &map).unwrap(); }),
+        time(&|| { prepared.solve_robust_tables(&samples.values, &map, &chosen).unwrap(); }));
     Ok(())
 }

@@ -384,6 +384,7 @@ pub fn bound_log(y: &mut Mat<f64>, settings: &Settings, design: &Design, map: &L
     let weight: Vec<f64> =
         (0..design.n).map(|col| design.col_val[design.col_ptr[col] as usize..design.col_ptr[col + 1] as usize].iter().sum()).collect();
     let range = FACTOR_RANGE.ln();
+    let mut tops = [0.0; 3];
     for c in 0..3 {
         let mut shift = 0.0;
         for (j, spec) in settings.factors.iter().enumerate().skip(1) {
@@ -412,7 +413,12 @@ pub fn bound_log(y: &mut Mat<f64>, settings: &Settings, design: &Design, map: &L
             let x = y[(o + i, c)] + shift;
             y[(o + i, c)] = if x.is_nan() { top } else { x.min(top) };
         }
-        let over = peak(y, settings, design, c) - top;
+        tops[c] = top;
+    }
+    let peaks = peak(y, settings, design);
+    let o = design.offsets[0];
+    for c in 0..3 {
+        let over = peaks[c] - tops[c];
         if over > 0.0 {
             for i in 0..settings.factors[0].len() {
                 y[(o + i, c)] -= over;
@@ -425,43 +431,50 @@ pub fn bound_log(y: &mut Mat<f64>, settings: &Settings, design: &Design, map: &L
 /// than the sharpest highlight of the analytic suite (GGX, roughness 0.2) over its base.
 pub const FACTOR_RANGE: f64 = 1e3;
 
-/// The largest log product of channel `c` over a grid of light directions (the whole
-/// sphere, 64 polar angles), view directions (the upper hemisphere, 32) and 24 azimuth
+/// The largest log product per channel over a grid of light directions (the whole sphere,
+/// 32 polar angles), view directions (the upper hemisphere, 16) and 12 azimuth
 /// differences, factors looked up as the shader does (linear interpolation of linear
 /// values). A uv factor counts at its largest node.
-fn peak(y: &Mat<f64>, settings: &Settings, design: &Design, c: usize) -> f64 {
+fn peak(y: &Mat<f64>, settings: &Settings, design: &Design) -> [f64; 3] {
     use glam::{DVec2, DVec3};
-    let tables: Vec<Vec<f64>> = settings
+    let tables: Vec<Vec<[f64; 3]>> = settings
         .factors
         .iter()
         .zip(&design.offsets)
-        .map(|(f, &o)| (0..f.len()).map(|i| y[(o + i, c)].exp()).collect())
+        .map(|(f, &o)| (0..f.len()).map(|i| [0, 1, 2].map(|c| y[(o + i, c)].exp())).collect())
         .collect();
-    let uv_max: f64 = settings
-        .factors
-        .iter()
-        .zip(&tables)
-        .filter(|(f, _)| f.input == Input::Uv)
-        .map(|(_, t)| t.iter().cloned().fold(0.0, f64::max))
-        .product();
+    let mut base = [1.0f64; 3];
+    for (f, t) in settings.factors.iter().zip(&tables) {
+        if f.input == Input::Uv {
+            for c in 0..3 {
+                base[c] *= t.iter().map(|x| x[c]).fold(0.0, f64::max);
+            }
+        }
+    }
     let dir = |theta: f64, phi: f64| DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
-    let mut best = f64::NEG_INFINITY;
-    for a in 0..64 {
-        let tl = std::f64::consts::PI * a as f64 / 63.0;
-        for b in 0..32 {
-            let tv = 0.5 * std::f64::consts::PI * b as f64 / 31.0;
-            for d in 0..24 {
-                let q = super::Query { l: dir(tl, 0.0), v: dir(tv, std::f64::consts::TAU * d as f64 / 24.0), uv: DVec2::ZERO };
-                let mut prod = uv_max;
+    let mut best = [0.0f64; 3];
+    for a in 0..32 {
+        let tl = std::f64::consts::PI * a as f64 / 31.0;
+        for b in 0..16 {
+            let tv = 0.5 * std::f64::consts::PI * b as f64 / 15.0;
+            for d in 0..12 {
+                let q = super::Query { l: dir(tl, 0.0), v: dir(tv, std::f64::consts::TAU * d as f64 / 12.0), uv: DVec2::ZERO };
+                let mut prod = base;
                 for (f, t) in settings.factors.iter().zip(&tables) {
                     if f.input == Input::Uv {
                         continue;
                     }
-                    prod *= system::stencil(f, &q).iter().map(|(i, w)| w * t[i]).sum::<f64>();
+                    let mut sum = [0.0; 3];
+                    for (i, w) in system::stencil(f, &q).iter() {
+                        for c in 0..3 {
+                            sum[c] += w * t[i][c];
+                        }
+                    }
+                    prod = [0, 1, 2].map(|c| prod[c] * sum[c]);
                 }
-                best = best.max(prod.ln());
+                best = [0, 1, 2].map(|c| best[c].max(prod[c]));
             }
         }
     }
-    best
+    best.map(|x| x.ln())
 }
