@@ -11,6 +11,8 @@
 //! - [`Pattern`]: where the samples are. [`Settings`]: which factors, how to solve.
 //! - [`prepare`] → [`Prepared`]: the factored system; [`Prepared::solve`] per set of values.
 //! - [`Mapping`]: linear-to-log mappings (3.2.3).
+//! - [`robust`]: [`Prepared::solve_robust`], the fit of a hand-made painting (robust loss,
+//!   paint levels, a light prior, bounded tables) on the same prepared system.
 //! - [`cache`]: prepared systems saved to disk, keyed by pattern and settings.
 
 pub mod cache;
@@ -18,6 +20,7 @@ pub mod mapping;
 pub mod param;
 mod pattern;
 mod prepared;
+pub mod robust;
 mod schur;
 mod sparse;
 mod settings;
@@ -28,4 +31,5 @@ pub use mapping::{LogMap, Mapping};
 pub use param::{Domain, Param};
 pub use pattern::{Pattern, Query, Sample};
 pub use prepared::{errors, prepare, Errors, Fit, Prepared, Spectral};
+pub use robust::{Robust, BOUND};
 pub use settings::{defaults, CustomInput, FactorSpec, Input, Method, Settings, MAX_RES_1D, MAX_RES_2D, MAX_UNKNOWNS};

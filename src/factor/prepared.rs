@@ -220,7 +220,7 @@ impl Prepared {
 
     /// Check values: one per sample, finite, non-negative, not all zero. Returns the
     /// per-channel maximum.
-    fn check(&self, values: &[[f64; 3]]) -> Result<[f64; 3]> {
+    pub(crate) fn check(&self, values: &[[f64; 3]]) -> Result<[f64; 3]> {
         if values.len() != self.samples() {
             return Err(Error::input(format!(
                 "{} values for a pattern of {} samples",
@@ -286,9 +286,11 @@ impl Prepared {
     }
 
     /// Solve for one mapping without computing errors: the fast path of live painting.
+    /// Bounded like [`Prepared::solve`].
     pub fn solve_tables(&self, values: &[[f64; 3]], map: &LogMap) -> Result<Vec<Vec<[f64; 3]>>> {
-        self.check(values)?;
-        let y = self.apply(&self.rhs(values, map));
+        let max = self.check(values)?;
+        let mut y = self.apply(&self.rhs(values, map));
+        super::robust::bound_log(&mut y, &self.settings, &self.design, map, max, super::robust::BOUND);
         Ok(self.split(&y))
     }
 
@@ -337,13 +339,16 @@ impl Prepared {
 
     /// Solve: try the mapping's candidates and keep the one with the lowest linear-space
     /// RMS error on the samples (thesis 3.2.3: "try several mappings quickly with a single
-    /// pseudo-inverse, and pick the one with the smallest error").
+    /// pseudo-inverse, and pick the one with the smallest error"). The tables are bounded
+    /// ([`super::robust::bound_log`]): no factor, and no product over the directions, beyond
+    /// [`super::robust::BOUND`] × the painting's largest value, whatever was painted.
     pub fn solve(&self, values: &[[f64; 3]], mapping: Mapping) -> Result<Fit> {
         let max = self.check(values)?;
         let mut best: Option<Fit> = None;
         let mut tried = Vec::new();
         for map in mapping.candidates(max)? {
-            let y = self.apply(&self.rhs(values, &map));
+            let mut y = self.apply(&self.rhs(values, &map));
+            super::robust::bound_log(&mut y, &self.settings, &self.design, &map, max, super::robust::BOUND);
             let tables = self.split(&y);
             let errors = self.errors(&tables, &map, values);
             tried.push((map, errors));

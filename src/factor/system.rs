@@ -270,6 +270,30 @@ impl SymCsc {
     }
 }
 
+/// The smoothing, damping and ridge rows of one factor, in its own node numbering, each
+/// with its weight applied, for a pattern of `n_samples` samples. [`crate::factor::robust`]
+/// applies them to a prior shape (a regularization that pulls toward a shape instead of a
+/// constant moves only the right-hand side, so the prepared system is unchanged).
+pub(crate) fn factor_regularization(f: &FactorSpec, n_samples: f64) -> Rows {
+    let dim = f.dim();
+    let h = 1.0 / (f.res - 1) as f64;
+    // Quadrature weight of one node: the rows approximate integrals over the unit domain.
+    let cell = h.powi(dim as i32);
+    let mut out: Rows = Vec::new();
+    let mut push = |rows: Rows, scale: f64| out.extend(rows.into_iter().map(|r| r.into_iter().map(|(i, c)| (i, c * scale)).collect()));
+    if f.smooth > 0.0 {
+        push(table::laplacian(f.res, dim), (f.smooth * f.smooth * n_samples * cell).sqrt());
+    }
+    if f.damp > 0.0 {
+        push(table::gradient(f.res, dim), (f.damp * n_samples * cell).sqrt());
+    }
+    if f.ridge > 0.0 {
+        let s = (f.ridge * n_samples * cell).sqrt();
+        push((0..f.len()).map(|i| vec![(i, s)]).collect(), 1.0);
+    }
+    out
+}
+
 /// Regularization rows of every factor, in global unknown numbering, each with its weight
 /// already applied (so $\mathbf R = \sum_{\text{rows}} \mathbf r \mathbf r^\top$).
 fn regularization(settings: &Settings, design: &Design) -> Rows {
@@ -282,20 +306,7 @@ fn regularization(settings: &Settings, design: &Design) -> Rows {
         }
     };
     for (j, f) in settings.factors.iter().enumerate() {
-        let dim = f.dim();
-        let h = 1.0 / (f.res - 1) as f64;
-        // Quadrature weight of one node: the rows approximate integrals over the unit domain.
-        let cell = h.powi(dim as i32);
-        if f.smooth > 0.0 {
-            push(table::laplacian(f.res, dim), (f.smooth * f.smooth * n_samples * cell).sqrt(), offsets[j]);
-        }
-        if f.damp > 0.0 {
-            push(table::gradient(f.res, dim), (f.damp * n_samples * cell).sqrt(), offsets[j]);
-        }
-        if f.ridge > 0.0 {
-            let s = (f.ridge * n_samples * cell).sqrt();
-            push((0..f.len()).map(|i| vec![(i, s)]).collect(), 1.0, offsets[j]);
-        }
+        push(factor_regularization(f, n_samples), 1.0, offsets[j]);
         // Gauge: a constant moved from one factor to another changes nothing (the exact null
         // directions of the log-space system: data, smoothing and damping rows all ignore a
         // constant). Pinning one node of every factor but the first to log 1 = 0 removes

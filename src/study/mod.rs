@@ -9,6 +9,7 @@
 //!   [`measure_stroke_to_frame`]: the live painting loop, stroke to frame.
 
 pub mod bench;
+pub mod faults;
 pub mod fidelity;
 mod stroke;
 
