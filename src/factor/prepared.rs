@@ -183,6 +183,10 @@ pub struct Fit {
     pub tried: Vec<(LogMap, Errors)>,
 }
 
+/// Under [`Mapping::Auto`], `inverted` is kept only when its RMS on the samples is at least
+/// this fraction below every other candidate's (issue 11: gains of 0.002 bought hue flips).
+pub const INVERTED_MARGIN: f64 = 0.15;
+
 impl Prepared {
     /// The settings this system was prepared with.
     pub fn settings(&self) -> &Settings {
@@ -290,8 +294,55 @@ impl Prepared {
     pub fn solve_tables(&self, values: &[[f64; 3]], map: &LogMap) -> Result<Vec<Vec<[f64; 3]>>> {
         let max = self.check(values)?;
         let mut y = self.apply(&self.rhs(values, map));
-        super::robust::bound_log(&mut y, &self.settings, &self.design, map, max, super::robust::BOUND);
+        self.bound(&mut y, map, max);
         Ok(self.split(&y))
+    }
+
+    /// Keeps a fit from blowing up where the painting is silent (issue 11: two white strokes
+    /// once drove q(h) to 1e10, a chrome bunny with black holes). When the product,
+    /// evaluated over a grid of light and view directions ([`super::robust::peak`]),
+    /// exceeds [`super::robust::BOUND`] × the painting's largest value (+ a for the offset
+    /// mapping) in some channel, every node no sample reaches (data weight below 1: its
+    /// value is the smoothing's extrapolation) is capped at the highest node the samples do
+    /// reach; the fit on the samples stays as it was. If the product is still over, the
+    /// samples themselves pull it up, and [`super::robust::bound_log`] bounds it at their
+    /// expense. A fit within the bound, as the fit of a consistent painting is, is left
+    /// exactly as solved. (Not under `inverted`, bounded by its a: a large product there
+    /// means dark.)
+    fn bound(&self, y: &mut Mat<f64>, map: &LogMap, max: [f64; 3]) {
+        if matches!(map, LogMap::Inverted { .. }) {
+            return;
+        }
+        let top = |c: usize| {
+            let a = if let LogMap::Offset { a } = map { a[c] } else { 0.0 };
+            (super::robust::BOUND * max[c].max(1e-12) + a).ln()
+        };
+        let peaks = super::robust::peak(y, &self.settings, &self.design);
+        if (0..3).all(|c| peaks[c] <= top(c)) {
+            return;
+        }
+        let d = &self.design;
+        // A node's data weight: the sum of its interpolation weights over the samples.
+        let weight: Vec<f64> = (0..d.n).map(|col| d.col_val[d.col_ptr[col] as usize..d.col_ptr[col + 1] as usize].iter().sum()).collect();
+        for (f, &o) in self.settings.factors.iter().zip(&d.offsets) {
+            for c in 0..3 {
+                let reached = (0..f.len()).filter(|&i| weight[o + i] >= 1.0).map(|i| y[(o + i, c)]).fold(f64::NEG_INFINITY, f64::max);
+                if !reached.is_finite() {
+                    continue;
+                }
+                for i in (0..f.len()).filter(|&i| weight[o + i] < 1.0) {
+                    let v = &mut y[(o + i, c)];
+                    *v = if v.is_nan() { reached } else { v.min(reached) };
+                }
+            }
+        }
+        // Still over: the samples themselves pull the product up where they never meet
+        // (white strokes across a shaded painting). Then the fit gives way: factors are
+        // kept within a range of their mean and the light factor is scaled under the bound.
+        let peaks = super::robust::peak(y, &self.settings, &self.design);
+        if (0..3).any(|c| peaks[c] > top(c)) {
+            super::robust::bound_log(y, &self.settings, &self.design, map, max, super::robust::BOUND);
+        }
     }
 
     /// Log-space tables $\tilde{\mathbf y} = \mathbf G^{-1} \mathbf A^\top \tilde{\mathbf f}$
@@ -348,12 +399,16 @@ impl Prepared {
         let mut tried = Vec::new();
         for map in mapping.candidates(max)? {
             let mut y = self.apply(&self.rhs(values, &map));
-            super::robust::bound_log(&mut y, &self.settings, &self.design, &map, max, super::robust::BOUND);
+            self.bound(&mut y, &map, max);
             let tables = self.split(&y);
             let errors = self.errors(&tables, &map, values);
             tried.push((map, errors));
-            // NaN errors (an overflowing exp) never win.
-            if best.as_ref().is_none_or(|b| errors.rms < b.errors.rms) {
+            // NaN errors (an overflowing exp) never win. `inverted` (f = a − ∏) must win
+            // clearly: its product falls where the data are silent (a light behind the
+            // object), so a − ∏ brightens there, and its per-channel clamp flips hues; for
+            // a small gain on the samples that is a worse material everywhere else.
+            let score = |m: &LogMap, e: &Errors| if matches!(m, LogMap::Inverted { .. }) { e.rms / (1.0 - INVERTED_MARGIN) } else { e.rms };
+            if best.as_ref().is_none_or(|b| score(&map, &errors) < score(&b.map, &b.errors)) {
                 best = Some(Fit { tables, map, errors, tried: Vec::new() });
             }
         }

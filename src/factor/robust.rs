@@ -435,7 +435,7 @@ pub const FACTOR_RANGE: f64 = 1e3;
 /// 32 polar angles), view directions (the upper hemisphere, 16) and 12 azimuth
 /// differences, factors looked up as the shader does (linear interpolation of linear
 /// values). A uv factor counts at its largest node.
-fn peak(y: &Mat<f64>, settings: &Settings, design: &Design) -> [f64; 3] {
+pub(crate) fn peak(y: &Mat<f64>, settings: &Settings, design: &Design) -> [f64; 3] {
     use glam::{DVec2, DVec3};
     let tables: Vec<Vec<[f64; 3]>> = settings
         .factors
