@@ -89,7 +89,7 @@ pub fn settings(dim: usize, res: Option<usize>, lambda: Option<f64>) -> Result<S
 
 /// Where a material came from: this tool, its inputs, its errors and timings.
 pub fn provenance(sources: Vec<String>, errors: Option<Errors>, samples: usize, prepare_s: f64, solve_s: f64) -> Provenance {
-    Provenance { tool: crate::material::TOOL.to_string(), sources, errors, samples, prepare_s, solve_s }
+    Provenance { tool: crate::material::TOOL.to_string(), sources, errors, samples, prepare_s, solve_s, notes: Vec::new() }
 }
 
 /// The inputs of `views` as provenance lists them: each view's scene, then its painting.
@@ -244,5 +244,70 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
             (m, Some((report, uniform)))
         }
     };
-    Ok(Fitted { material, samples, solved, map })
+    let mut fitted = Fitted { material, samples, solved, map };
+    fitted.material.provenance.notes = diagnose(views, &fitted, opts.kind);
+    Ok(fitted)
+}
+
+/// What a user can act on, one line each (they go into the material's provenance): per
+/// view, the samples among the pixels that see the object and why the others are not
+/// samples; and a warning with a next step when one uniform material does not explain the
+/// painting: its error is organized by region on the surface.
+pub fn diagnose(views: &[PaintedView], fitted: &Fitted, kind: Kind) -> Vec<String> {
+    let mut notes = Vec::new();
+    for (k, v) in views.iter().enumerate() {
+        let g = &v.geometry;
+        let object = g.pixels.iter().filter(|p| p.is_some()).count();
+        let usable = g.usable_count();
+        let unpainted = (0..g.pixels.len()).filter(|&i| g.usable[i] && !v.painting.painted(i)).count();
+        let samples = fitted.samples.per_view.get(k).copied().unwrap_or(0);
+        notes.push(format!(
+            "{}: {samples} samples of the {object} pixels that see the object ({} in the silhouette band, --erode; {unpainted} unpainted)",
+            v.name,
+            object - usable
+        ));
+    }
+    if let Some(w) = regional_warning(fitted, kind) {
+        notes.push(w);
+    }
+    notes
+}
+
+/// The residual of a uniform fit, log(painting / fit) averaged over cells of a 12² uv
+/// grid: when the cells' means hold most of its variance and the relative error is
+/// large, the painting shows different materials in different places.
+fn regional_warning(fitted: &Fitted, kind: Kind) -> Option<String> {
+    const CELLS: usize = 12;
+    let e = fitted.errors();
+    if kind != Kind::Uniform || !fitted.samples.pattern.has_uv || e.rms_relative < 0.1 {
+        return None;
+    }
+    let m = &fitted.material;
+    let mut sums = vec![(0.0f64, 0usize); CELLS * CELLS];
+    let mut all = Vec::new();
+    for (q, v) in fitted.samples.pattern.queries.iter().zip(&fitted.samples.values) {
+        let f = crate::brdf::Reflectance::shading(m, q);
+        let (a, b) = (v.iter().sum::<f64>(), f.iter().sum::<f64>());
+        if a <= 1e-6 || b <= 1e-6 {
+            continue;
+        }
+        let r = (a / b).ln();
+        let cell = crate::factor::param::uv_nearest_node(q.uv, CELLS);
+        sums[cell].0 += r;
+        sums[cell].1 += 1;
+        all.push((cell, r));
+    }
+    if all.len() < 100 {
+        return None;
+    }
+    let mean = all.iter().map(|x| x.1).sum::<f64>() / all.len() as f64;
+    let total: f64 = all.iter().map(|x| (x.1 - mean).powi(2)).sum();
+    let between: f64 = all.iter().map(|&(c, _)| (sums[c].0 / sums[c].1 as f64 - mean).powi(2)).sum();
+    (total > 0.0 && between / total > 0.5).then(|| {
+        format!(
+            "warning: this does not look like one uniform material: {:.0}% of the error is organized by region on the surface (relative RMS {:.2}); try --kind material-map, with a second view (thesis 4.2, 4.4)",
+            100.0 * between / total,
+            e.rms_relative
+        )
+    })
 }

@@ -470,3 +470,23 @@ fn contact_sheet_rows_compare_painting_and_fit_in_the_same_view() {
         }
     }
 }
+
+/// `fit` says when a painting is not one uniform material (issue 11's diagnostics): the
+/// striped wood fitted as one product gets the warning with its next step, the plastic
+/// does not; both get their coverage line.
+#[test]
+fn a_uniform_fit_of_the_striped_wood_warns_and_names_the_next_step() {
+    use brdfpaint::pipeline::{fit, load_views, Options};
+    let d = &runs().dir;
+    let mut sampler = SceneSampler::new().unwrap();
+    let scene = d.join("sheet").join("scene.gltf");
+    let mut notes = |painting: &str| {
+        let loaded = load_views(&mut sampler, &[(scene.clone(), d.join("paintings").join(painting))], Erosion::default()).unwrap();
+        fit(&loaded.views, &Options::default(), None).unwrap().material.provenance.notes
+    };
+    let wood = notes("wood.png");
+    assert!(wood.iter().any(|n| n.contains("samples of the") && n.contains("silhouette band")), "{wood:#?}");
+    assert!(wood.iter().any(|n| n.contains("not look like one uniform material") && n.contains("--kind material-map")), "{wood:#?}");
+    let plastic = notes("plastic.png");
+    assert!(!plastic.iter().any(|n| n.contains("warning")), "{plastic:#?}");
+}

@@ -244,6 +244,9 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
         None => println!("light ({:.2}, {:.2}, {:.2}) as given", l.x, l.y, l.z),
     }
     let fitted = &lit.fitted;
+    for note in &fitted.material.provenance.notes {
+        println!("{note}");
+    }
     let views = std::slice::from_ref(&lit.view);
     // The scene goes into the material directory with it, in one commit.
     let staged = fitted.stage(views, &args.out)?;
@@ -291,6 +294,9 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
         for (k, e) in report.errors.iter().enumerate() {
             println!("{} {what}: RMS {:.5}  relative {:.4}  max {:.4}", k + 1, e.rms, e.rms_relative, e.max);
         }
+    }
+    for note in &fitted.material.provenance.notes {
+        println!("{note}");
     }
     let per_view = fitted.view_errors(&views);
     let report_path = fitted.save(&views, &args.out)?;

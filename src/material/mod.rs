@@ -95,6 +95,10 @@ pub struct Provenance {
     pub prepare_s: f64,
     #[serde(default)]
     pub solve_s: f64,
+    /// What the fit said about its input, one line each: the painted coverage, the pixels
+    /// left out and why, warnings with a next step.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
 }
 
 /// A complete material.
