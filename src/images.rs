@@ -121,6 +121,15 @@ pub fn check_jpeg_complete(bytes: &[u8]) -> std::result::Result<(), String> {
     }
 }
 
+/// The 4-neighbours of pixel `k` (index `j * width + i`) in a grid of `len` pixels,
+/// `width` to a row: left, right, up, down, those that exist.
+pub fn neighbours4(k: usize, width: usize, len: usize) -> impl Iterator<Item = usize> {
+    let (i, j, rows) = (k % width, k / width, len / width);
+    [(i > 0).then(|| k - 1), (i + 1 < width).then(|| k + 1), (j > 0).then(|| k - width), (j + 1 < rows).then(|| k + width)]
+        .into_iter()
+        .flatten()
+}
+
 /// EXR values this little below zero are filtering round-off (Blender's bundled MatCaps
 /// have them, down to -0.0017), read as 0; anything more negative is an error.
 pub const NEGATIVE_NOISE: f32 = 0.01;

@@ -29,7 +29,7 @@ use glam::{DMat3, DVec3, Mat4, Vec3};
 
 use crate::error::{Error, Result};
 use crate::factor::cache::Cache;
-use crate::images::Painting;
+use crate::images::{neighbours4, Painting};
 use crate::pipeline::{self, Fitted, Options};
 use crate::scene::{sphere_mesh, Camera, Light, Projection, Scene};
 use crate::sample::{Erosion, PaintedView, SceneSampler};
@@ -122,19 +122,7 @@ fn connected_to_border(mask: &[bool], w: usize, h: usize) -> Vec<bool> {
             continue;
         }
         seen[k] = true;
-        let (i, j) = (k % w, k / w);
-        if i > 0 {
-            stack.push(k - 1);
-        }
-        if i + 1 < w {
-            stack.push(k + 1);
-        }
-        if j > 0 {
-            stack.push(k - w);
-        }
-        if j + 1 < h {
-            stack.push(k + w);
-        }
+        stack.extend(neighbours4(k, w, w * h));
     }
     seen
 }
@@ -286,24 +274,11 @@ fn label(mask: &[bool], w: usize, h: usize) -> Vec<u32> {
         labels[start] = next;
         stack.push(start);
         while let Some(k) = stack.pop() {
-            let (i, j) = (k % w, k / w);
-            let mut visit = |n: usize| {
+            for n in neighbours4(k, w, w * h) {
                 if mask[n] && labels[n] == 0 {
                     labels[n] = next;
                     stack.push(n);
                 }
-            };
-            if i > 0 {
-                visit(k - 1);
-            }
-            if i + 1 < w {
-                visit(k + 1);
-            }
-            if j > 0 {
-                visit(k - w);
-            }
-            if j + 1 < h {
-                visit(k + w);
             }
         }
     }

@@ -3,6 +3,13 @@
 mod cli;
 
 fn main() -> std::process::ExitCode {
+    // Printing into a closed pipe (`brdfpaint fit ... | head`) ends the process quietly, as
+    // it does for other command-line tools, instead of failing a write.
+    #[cfg(unix)]
+    // SAFETY: restores the default disposition of one signal before any thread starts.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     // A panic is a bug, never the answer to bad input; say so in one line, not a backtrace.
     std::panic::set_hook(Box::new(|info| {
         // A panic the library catches (inside the gltf crate) becomes its one-line error.

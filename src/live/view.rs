@@ -112,24 +112,11 @@ impl PaintView {
             if !open(k) && k != start {
                 continue; // a line pixel is filled but does not spread
             }
-            let (x, y) = (k % w, k / w);
-            let mut push = |n: usize| {
+            for n in crate::images::neighbours4(k, w, w * h) {
                 if !seen[n] && self.hit[n] {
                     seen[n] = true;
                     stack.push(n);
                 }
-            };
-            if x > 0 {
-                push(k - 1);
-            }
-            if x + 1 < w {
-                push(k + 1);
-            }
-            if y > 0 {
-                push(k - w);
-            }
-            if y + 1 < h {
-                push(k + w);
             }
         }
         out.sort_unstable();

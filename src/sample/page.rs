@@ -43,23 +43,9 @@ pub fn remove_page(painting: &mut Painting, lines: &[bool], hit: &[bool]) -> Opt
     let drawn: Vec<usize> = (0..painting.pixels.len()).filter(|&k| on_object(k)).collect();
     // A line pixel is the page's when it is black beside paint that is not: black lines in
     // a black shadow prove nothing.
-    let w = painting.width;
     let beside_paint = |k: usize| {
-        let (i, j) = (k % w, k / w);
-        let mut next = Vec::with_capacity(4);
-        if i > 0 {
-            next.push(k - 1);
-        }
-        if i + 1 < w {
-            next.push(k + 1);
-        }
-        if j > 0 {
-            next.push(k - w);
-        }
-        if k + w < painting.pixels.len() {
-            next.push(k + w);
-        }
-        next.into_iter().any(|n| !lines[n] && hit[n] && painting.alpha[n] > 0.0 && !black(painting, n))
+        crate::images::neighbours4(k, painting.width, painting.pixels.len())
+            .any(|n| !lines[n] && hit[n] && painting.alpha[n] > 0.0 && !black(painting, n))
     };
     let still_black = drawn.iter().filter(|&&k| black(painting, k) && beside_paint(k)).count();
     if drawn.len() < 20 || 2 * still_black < drawn.len() {
