@@ -1,6 +1,7 @@
 //! Regenerates the bundled paintings in `assets/paintings/` (see `brdfpaint::demo::paintings`):
 //! each analytic or MERL-fit material is its true shading on the sphere sheet's G-buffer under
-//! seeded brush noise; the MatCap is mapped onto the sphere through view-space normals.
+//! seeded brush noise; the MatCap (fitted as a lit sphere) is the picture itself, box-filtered
+//! to the sheets' size.
 //! Deterministic: running it again gives the same files.
 //!
 //! `cargo run --release --example make_paintings`
@@ -8,14 +9,13 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use brdfpaint::demo::paintings::{self, Truth};
+use brdfpaint::demo::paintings;
 use brdfpaint::images::Rgb;
 use brdfpaint::sample::SceneSampler;
 use brdfpaint::scene::Scene;
 
 fn main() -> brdfpaint::Result<()> {
     let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/paintings");
-    let matcap = Rgb::read_exr(&assets.join("matcap/toon.exr"))?;
     let mut sampler = SceneSampler::new()?;
     // The G-buffer of each view, from the scene as the demo writes and reads it back.
     let tmp = std::env::temp_dir().join(format!("make_paintings-{}", std::process::id()));
@@ -36,10 +36,18 @@ fn main() -> brdfpaint::Result<()> {
             if done.contains_key(p.file) {
                 continue;
             }
+            if spec.kind == paintings::FitKind::LitSphere {
+                let picture = brdfpaint::images::Painting::read(&assets.join("matcap/toon.exr"))?;
+                let (s, _) = brdfpaint::litsphere::shrink(&picture, paintings::SIZE);
+                let path = assets.join(p.file);
+                Rgb { width: s.width, height: s.height, pixels: s.pixels }.write_png(&path)?;
+                println!("{:<18} {:<34} the MatCap at {}x{}", p.file, spec.truth.describe(), s.width, s.height);
+                done.insert(p.file, ());
+                continue;
+            }
             let (scene, g) = &gbuffers[p.view];
             let brush = p.brush_seed.map(paintings::brush);
-            let m = matches!(spec.truth, Truth::Matcap { .. }).then_some(&matcap);
-            let canvas = paintings::paint(&spec.truth, g, scene, brush.as_ref(), m)?;
+            let canvas = paintings::paint(&spec.truth, g, scene, brush.as_ref(), None)?;
             let bytes = canvas.encode_png()?;
             let path = assets.join(p.file);
             std::fs::write(&path, &bytes).map_err(|e| brdfpaint::Error::io(&path, e))?;

@@ -497,9 +497,14 @@ pub struct LitSphere {
 /// Fits a material to a lit-sphere picture or MatCap at `path` (PNG, JPEG, EXR), lit from
 /// `light` (view frame, towards the light) or from the estimated light.
 pub fn fit(path: &Path, light: Option<DVec3>, opts: &Options, cache: Option<&Cache>) -> Result<LitSphere> {
+    fit_sized(path, light, opts, cache, MAX_SIDE)
+}
+
+/// [`fit`], with the picture box-filtered to at most `max_side` pixels a side.
+pub fn fit_sized(path: &Path, light: Option<DVec3>, opts: &Options, cache: Option<&Cache>, max_side: usize) -> Result<LitSphere> {
     let name = path.display().to_string();
     let original = Painting::read(path)?;
-    let (mut painting, _) = shrink(&original, MAX_SIDE);
+    let (mut painting, _) = shrink(&original, max_side.max(16));
     let (disk, outline) = find_disk(&painting, &name)?;
     // Only the sphere is paint: the background (and the rim, which mixes with it) is not.
     for j in 0..painting.height {

@@ -272,7 +272,8 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
     let mut renders: Vec<Vec<Image>> = Vec::new();
     for (spec, f) in specs.iter().zip(&fitted) {
         let gpu = renderer.upload(&f.material)?;
-        let sphere = (&gpu_scenes[shown_view(spec)], "sphere");
+        let own = f.scene.as_ref().map(|s| GpuScene::upload(renderer.gl(), s)).transpose()?;
+        let sphere = (own.as_ref().unwrap_or(&gpu_scenes[shown_view(spec)]), "sphere");
         let retargeted = gpu_scenes[views.len()..].iter().zip(retargets()).map(|(s, r)| (s, r.model));
         let mut row = Vec::new();
         for (scene, model) in std::iter::once(sphere).chain(retargeted) {
@@ -323,6 +324,9 @@ pub fn contact_columns() -> [String; contact::COLUMNS] {
 /// What a contact sheet row says after its material's name: what was painted, in which
 /// views (named by their sheet directories), and which view the row shows.
 fn contact_caption(spec: &MaterialSpec, description: &str) -> String {
+    if spec.kind == FitKind::LitSphere {
+        return format!("{description}, fitted as a lit sphere");
+    }
     let dirs: Vec<String> = spec.paintings.iter().map(|p| format!("{}/", paintings::views()[p.view].dir)).collect();
     match dirs.as_slice() {
         [one] => format!("{description}, painted in {one}"),
@@ -341,6 +345,8 @@ struct Fitted {
     /// For a material map: the uniform product of the same samples, for comparison.
     uniform: Option<Material>,
     views: Vec<PaintedView>,
+    /// A lit sphere's own scene (the sheets' scenes otherwise).
+    scene: Option<Scene>,
     row: Row,
 }
 
@@ -361,6 +367,9 @@ fn fit_material(
     settings: &Settings,
     cache: Option<&Cache>,
 ) -> Result<Fitted> {
+    if spec.kind == FitKind::LitSphere {
+        return fit_lit_sphere(spec, tmp, settings, cache);
+    }
     let pairs: Vec<(PathBuf, PathBuf)> =
         spec.paintings.iter().map(|p| (scene_paths[p.view].clone(), tmp.join("paintings").join(p.file))).collect();
     let mut views = pipeline::load_views(sampler, &pairs, Erosion::default())?.views;
@@ -394,7 +403,37 @@ fn fit_material(
         uniform_held_out: None,
     };
     let uniform = fitted.map.map(|(_, u)| u);
-    Ok(Fitted { material: fitted.material, uniform, views, row })
+    Ok(Fitted { material: fitted.material, uniform, views, scene: None, row })
+}
+
+/// Fits a MatCap as `brdfpaint fit --lit-sphere DIR/paintings/P` does, at the contact
+/// sheet's size, writing `materials/NAME/` with its report.png and scene.gltf.
+fn fit_lit_sphere(spec: &MaterialSpec, tmp: &Path, settings: &Settings, cache: Option<&Cache>) -> Result<Fitted> {
+    let p = spec.paintings.last().expect("a material has a painting");
+    let opts = pipeline::Options { settings: settings.clone(), ..Default::default() };
+    let lit = crate::litsphere::fit_sized(&tmp.join("paintings").join(p.file), None, &opts, cache, SIZE)?;
+    let mut view = lit.view;
+    view.name = format!("paintings/{}", p.file);
+    view.source = format!("{} (lit sphere)", view.name);
+    let views = vec![view];
+    let staged = lit.fitted.stage(&views, &tmp.join("materials").join(spec.name))?;
+    staged.write("scene.gltf", |path| lit.scene.write_gltf(path))?;
+    staged.commit()?;
+    let f = &lit.fitted;
+    let row = Row {
+        name: spec.name.to_string(),
+        description: spec.truth.describe(),
+        views: 1,
+        samples: f.samples.len(),
+        kind: "uniform".to_string(),
+        prepare_s: f.solved.prepare_s,
+        solve_s: f.solve_s(),
+        outcome: f.solved.outcome.clone(),
+        errors: f.errors(),
+        held_out: None,
+        uniform_held_out: None,
+    };
+    Ok(Fitted { material: lit.fitted.material, uniform: None, views, scene: Some(lit.scene), row })
 }
 
 /// The one-screen summary.
@@ -459,7 +498,7 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
             let _ = writeln!(s, "  (judged where the paintings saw the surface: the back of the sphere was never painted)");
         }
     }
-    let _ = writeln!(s, "A MatCap is lit by its own studio lights, not by one light: its fit can only approximate it.");
+    let _ = writeln!(s, "The MatCap is fitted as a lit sphere (fit --lit-sphere): its light estimated from the picture.");
     let models: Vec<String> = retargets()
         .iter()
         .map(|r| format!("{} ({})", r.model, r.preset.description.trim_start_matches("light ")))

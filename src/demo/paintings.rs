@@ -139,6 +139,9 @@ pub enum FitKind {
     /// A material map of at most `terms` products blended by coefficient textures
     /// (thesis 4.2.2): for paintings whose material varies over the surface.
     MaterialMap { terms: usize },
+    /// `brdfpaint fit --lit-sphere`: the painting is a picture of a sphere (a MatCap), its
+    /// scene built and its light estimated from the picture itself.
+    LitSphere,
 }
 
 /// A material the demo recovers: its name, what it is, how it is fitted, and the paintings
@@ -249,8 +252,9 @@ pub fn materials() -> Vec<MaterialSpec> {
         MaterialSpec {
             name: "toon",
             truth: Truth::Matcap { name: "toon" },
-            kind: FitKind::Uniform,
-            paintings: vec![painting!("toon.png", 0, None)],
+            kind: FitKind::LitSphere,
+            // The MatCap itself, at the sheets' size: a lit sphere with its own scene.
+            paintings: vec![painting!("toon-matcap.png", 0, None)],
         },
     ]
 }
