@@ -10,7 +10,7 @@ use std::path::Path;
 use image::{ImageFormat, Rgb32FImage};
 
 use crate::error::{Error, Result};
-use crate::util::write_atomic;
+use crate::commit::write_atomic;
 
 /// A linear RGB float image, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,4 +1,7 @@
-//! Small helpers shared by several modules.
+//! Small helpers shared by several modules: a stable hash for cache keys and file
+//! fingerprints, whether to draw progress bars, and the AVX state after a solve.
+//! (Whole-or-nothing outputs live in [`crate::commit`], the file-access policy in
+//! [`crate::fsio`].)
 
 /// FNV-1a, 64 bit: a stable hash for cache keys and checksums (std's hasher is not stable
 /// across releases, and these values are stored in files).
@@ -27,9 +30,6 @@ impl Default for Fnv {
         Self::new()
     }
 }
-
-// Whole-or-nothing outputs live in `crate::commit`; these names stay here for callers.
-pub use crate::commit::{move_into_fresh, output_dir_is_fresh, swap_dir, temp_sibling, write_atomic};
 
 /// Whether progress bars should be drawn: only when stderr is a terminal.
 pub fn progress_enabled() -> bool {

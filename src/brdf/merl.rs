@@ -126,7 +126,7 @@ impl Merl {
         for x in &self.raw {
             bytes.extend_from_slice(&x.to_le_bytes());
         }
-        crate::util::write_atomic(path, &bytes)
+        crate::commit::write_atomic(path, &bytes)
     }
 
     /// The BRDF at a light and view direction (local frame, unit vectors), or `None` where

@@ -150,7 +150,7 @@ pub fn check_output(dir: &Path) -> Result<()> {
 }
 
 fn target(dir: &Path) -> Result<Target> {
-    if crate::util::output_dir_is_fresh(dir)? {
+    if crate::commit::output_dir_is_fresh(dir)? {
         return Ok(Target::Fresh);
     }
     let marked = std::fs::read_to_string(dir.join("summary.txt")).is_ok_and(|s| s.starts_with(MARK));
@@ -171,15 +171,15 @@ fn commit(tmp: &Path, dir: &Path, expected: Target) -> Result<()> {
         return Err(Error::input(format!("{} changed while the demo ran; not overwriting it", dir.display())));
     }
     match expected {
-        Target::Fresh => crate::util::move_into_fresh(tmp, dir),
-        Target::Demo => crate::util::swap_dir(tmp, dir),
+        Target::Fresh => crate::commit::move_into_fresh(tmp, dir),
+        Target::Demo => crate::commit::swap_dir(tmp, dir),
     }
 }
 
 /// Runs the demo into `dir`, preparing through `cache` (`None`: prepare every time).
 pub fn run(dir: &Path, cache: Option<&Cache>) -> Result<Report> {
     let expected = target(dir)?;
-    let tmp = crate::util::temp_sibling(dir);
+    let tmp = crate::commit::temp_sibling(dir);
     std::fs::create_dir_all(&tmp).map_err(|e| Error::io(&tmp, e))?;
     let result = run_into(&tmp, dir, cache).and_then(|report| commit(&tmp, dir, expected).map(|()| report));
     if tmp.exists() {
@@ -226,7 +226,7 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
         for p in &spec.paintings {
             let path = paintings_dir.join(p.file);
             if !path.exists() {
-                crate::util::write_atomic(&path, p.bytes)?;
+                crate::commit::write_atomic(&path, p.bytes)?;
             }
         }
     }
@@ -306,7 +306,7 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
 
     let total_s = start.elapsed().as_secs_f64();
     let summary = summary(&rows, &stages, dir, cache, total_s);
-    crate::util::write_atomic(&tmp.join("summary.txt"), summary.as_bytes())?;
+    crate::commit::write_atomic(&tmp.join("summary.txt"), summary.as_bytes())?;
     Ok(Report { rows, summary, total_s })
 }
 

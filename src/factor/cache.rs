@@ -93,7 +93,7 @@ impl Cache {
         let prepared = super::prepare(pattern, settings)?;
         let written = std::fs::create_dir_all(&self.dir)
             .map_err(|e| Error::io(&self.dir, e))
-            .and_then(|()| crate::util::write_atomic(&path, &store(&prepared, k)));
+            .and_then(|()| crate::commit::write_atomic(&path, &store(&prepared, k)));
         let outcome = match (written, stale) {
             (Err(e), _) => Outcome::Uncached(e.to_string()),
             (Ok(()), Some(reason)) => Outcome::Rebuilt(reason),

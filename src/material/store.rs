@@ -119,7 +119,7 @@ impl Material {
             provenance: self.provenance.clone(),
         };
         let json = serde_json::to_string_pretty(&file).map_err(|e| Error::format(dir, e.to_string()))?;
-        crate::util::write_atomic(&dir.join("material.json"), json.as_bytes())
+        crate::commit::write_atomic(&dir.join("material.json"), json.as_bytes())
     }
 
     /// Load a material directory (or its material.json).

@@ -116,7 +116,7 @@ impl Sheet {
         let img = image::RgbaImage::from_raw(w as u32, h as u32, bytes).ok_or_else(|| Error::format(path, "page size mismatch"))?;
         let mut out = std::io::Cursor::new(Vec::new());
         img.write_to(&mut out, image::ImageFormat::Png).map_err(|e| Error::format(path, e.to_string()))?;
-        crate::util::write_atomic(path, out.get_ref())
+        crate::commit::write_atomic(path, out.get_ref())
     }
 }
 
@@ -138,7 +138,7 @@ enum Target {
 impl Target {
     /// Refuses files and non-empty directories that are not sheets.
     fn of(dir: &Path) -> Result<Target> {
-        if crate::util::output_dir_is_fresh(dir)? {
+        if crate::commit::output_dir_is_fresh(dir)? {
             Ok(Target::Fresh)
         } else if SHEET_FILES.iter().all(|f| dir.join(f).is_file()) {
             Ok(Target::Sheet)

@@ -97,9 +97,11 @@ pub fn write_gltf(scene: &Scene, path: impl AsRef<std::path::Path>) -> crate::Re
     scene.write_gltf(path)
 }
 
+mod accessor;
 mod load;
 mod mesh;
 pub mod preset;
+mod sources;
 mod uv;
 mod write;
 

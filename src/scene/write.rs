@@ -17,7 +17,7 @@ impl Scene {
     /// translation); a KHR_lights_punctual light node. No materials. Vertex data is stored
     /// bit for bit and JSON numbers exactly (each f32 is written as its f64 value), so
     /// [`Scene::load`] returns the same scene, up to the rounding of the camera's and light's
-    /// node rotations (~1e-7). The file is written atomically ([`crate::util::write_atomic`]).
+    /// node rotations (~1e-7). The file is written atomically ([`crate::commit::write_atomic`]).
     ///
     /// A scene with inconsistent meshes or a non-finite camera or light is an
     /// [`Error::Input`], and nothing is written.
@@ -26,7 +26,7 @@ impl Scene {
         self.check_writable().map_err(|e| Error::input(format!("cannot write {}: {e}", path.display())))?;
         let text = serde_json::to_string(&self.to_gltf_json())
             .map_err(|e| Error::format(path, format!("cannot serialize the scene: {e}")))?;
-        crate::util::write_atomic(path, text.as_bytes())
+        crate::commit::write_atomic(path, text.as_bytes())
     }
 
     /// What glTF cannot hold or [`Scene::load`] would refuse.

@@ -397,7 +397,7 @@ impl Running {
         let image = read_window(&self.gl, size[0], size[1])?;
         let mut bytes = std::io::Cursor::new(Vec::new());
         image.write_to(&mut bytes, image::ImageFormat::Png).map_err(|e| Error::format(path, e.to_string()))?;
-        crate::util::write_atomic(path, bytes.get_ref())?;
+        crate::commit::write_atomic(path, bytes.get_ref())?;
         let stage = &self.studio.stage;
         let (camera, light) = self.last_camera.unwrap_or((stage.orbit.camera(1.0), stage.light.light()));
         let (yfov, znear, zfar) = match camera.projection {
@@ -435,6 +435,6 @@ impl Running {
             gl_version: self.gl_version.clone(),
         };
         let json = serde_json::to_string_pretty(&info).map_err(|e| Error::format(path, e.to_string()))?;
-        crate::util::write_atomic(&path.with_extension("json"), json.as_bytes())
+        crate::commit::write_atomic(&path.with_extension("json"), json.as_bytes())
     }
 }

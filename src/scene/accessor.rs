@@ -1,0 +1,65 @@
+//! Accessors checked against their buffers before they are read, so that reading one
+//! cannot fail half-way.
+
+use gltf::accessor::{DataType, Dimensions};
+
+/// Checks an accessor's shape and type, and that all its bytes (and those of its sparse
+/// substitution, if any) lie inside its buffer view and the view inside the buffer's data,
+/// so that reading it cannot fail half-way (gltf's reader would otherwise stop short or, in
+/// debug builds, assert).
+pub(super) fn check_accessor(
+    accessor: &gltf::Accessor,
+    buffers: &[gltf::buffer::Data],
+    name: &str,
+    dimensions: Dimensions,
+    types: &[DataType],
+) -> std::result::Result<(), String> {
+    let index = accessor.index();
+    if accessor.count() == 0 {
+        return Err(format!("{name} accessor {index} is empty"));
+    }
+    if accessor.dimensions() != dimensions || !types.contains(&accessor.data_type()) {
+        return Err(format!(
+            "{name} accessor {index} is {:?} {:?}; supported: {:?} of {:?}",
+            accessor.dimensions(),
+            accessor.data_type(),
+            dimensions,
+            types
+        ));
+    }
+    let element = accessor.size();
+    let out_of_range = || format!("{name} accessor {index} lies outside its buffer (truncated or corrupt file?)");
+    if let Some(view) = accessor.view() {
+        check_range(&view, buffers, accessor.offset(), accessor.count(), element).ok_or_else(out_of_range)?;
+    }
+    if let Some(sparse) = accessor.sparse() {
+        let count = sparse.count();
+        if count == 0 || count > accessor.count() {
+            return Err(format!("{name} accessor {index} has {count} sparse values for {} elements", accessor.count()));
+        }
+        let (indices, values) = (sparse.indices(), sparse.values());
+        check_range(&indices.view(), buffers, indices.offset(), count, indices.index_type().size())
+            .ok_or_else(out_of_range)?;
+        check_range(&values.view(), buffers, values.offset(), count, element).ok_or_else(out_of_range)?;
+    }
+    Ok(())
+}
+
+/// `Some(())` when `count` elements of `element` bytes from `offset` (at the view's stride) lie
+/// inside the view, and the view inside its buffer's data.
+pub(super) fn check_range(
+    view: &gltf::buffer::View,
+    buffers: &[gltf::buffer::Data],
+    offset: usize,
+    count: usize,
+    element: usize,
+) -> Option<()> {
+    let stride = view.stride().unwrap_or(element);
+    if stride < element || count == 0 {
+        return None;
+    }
+    let end = stride.checked_mul(count - 1)?.checked_add(element)?.checked_add(offset)?;
+    let view_end = view.offset().checked_add(view.length())?;
+    let data = buffers.get(view.buffer().index())?;
+    (end <= view.length() && view_end <= data.0.len()).then_some(())
+}
