@@ -1,6 +1,8 @@
-//! The one path from paintings to a material (DESIGN.md, Data flow). `brdfpaint fit`, the
-//! demo and the viewer's refits all go through here; the command line only parses and
-//! prints.
+//! The one path from paintings to a material (DESIGN.md, Data flow). `brdfpaint fit` (scenes
+//! and lit spheres) and the demo go through here; the command line only parses and prints.
+//! Live painting ([`crate::live`]) refits on a prepared system it keeps current in the
+//! background, with this module's settings rule and provenance, and its settled fit is this
+//! path's to the last bit (tests/viewer_paint.rs).
 //!
 //! ```text
 //! scene + painting ──load_views──► PaintedView ─┐            (sample: G-buffer → l, v, uv per pixel)
