@@ -13,7 +13,7 @@ fn training(n: usize, res: usize) -> Vec<SphereView> {
 }
 
 fn held_out(model: &Analytic, settings: &Settings, fit: &brdfpaint::factor::Fit) -> f64 {
-    sphere_rms(&held_out_views(48), |q| model.shading(&q), |q| fit.eval(settings, q))
+    sphere_rms(&held_out_views(48), |q| model.shading(q), |q| fit.eval(settings, q))
 }
 
 fn study(settings: &Settings, views: usize, mapping: Mapping, verbose: bool) -> f64 {

@@ -92,7 +92,7 @@ fn main() -> brdfpaint::Result<()> {
     let front = preset("front")?;
     let mut fronts = vec![("front clean", Faults::clean()), ("front all", Faults::all())];
     if args.iter().any(|a| a == "--front") {
-        fronts = Faults::cases().into_iter().map(|(n, f)| (n, f)).collect();
+        fronts = Faults::cases().into_iter().collect();
     }
     for (case, f) in fronts {
         if only.as_deref().is_some_and(|o| o != case) {

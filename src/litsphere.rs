@@ -465,8 +465,8 @@ pub fn shrink(p: &Painting, max_side: usize) -> (Painting, usize) {
             for y in j * f..(j + 1) * f {
                 for x in i * f..(i + 1) * f {
                     let k = y * p.width + x;
-                    for ch in 0..3 {
-                        c[ch] += p.pixels[k][ch] * p.alpha[k];
+                    for (sum, &x) in c.iter_mut().zip(&p.pixels[k]) {
+                        *sum += x * p.alpha[k];
                     }
                     a += p.alpha[k];
                     sat &= p.saturated[k];

@@ -35,7 +35,7 @@ fn write_scene(dir: &Path, name: &str, preset: &Preset, intensity: f32) -> PathB
 /// front-facing pixel, black elsewhere. `.png` gives an 8-bit sRGB PNG (what a paint
 /// program saves), `.exr` linear float.
 fn paint(scene: &Path, model: &Analytic, size: usize, out: &Path) -> Painting {
-    paint_with(scene, size, out, |q| model.shading(&q))
+    paint_with(scene, size, out, |q| model.shading(q))
 }
 
 /// Paint the shading `shade` gives at each pixel's query, times the light.
@@ -230,7 +230,7 @@ fn bad_input_is_one_line_naming_the_file_and_writes_nothing() {
 fn paint_banded(scene: &Path, model: &Analytic, size: usize, out: &Path) {
     paint_with(scene, size, out, |q| {
         let albedo = if (q.uv.x * 6.0).floor() as i64 % 2 == 0 { 1.0 } else { 0.4 };
-        model.shading(&q).map(|v| albedo * v)
+        model.shading(q).map(|v| albedo * v)
     });
 }
 

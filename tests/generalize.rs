@@ -22,7 +22,7 @@ fn suite_errors_with(views: usize, settings: &Settings) -> Vec<(String, f64)> {
         .map(|model| {
             let values = pattern.shade(|q| model.shading(q));
             let fit = prepared.solve(&values, Mapping::Auto).unwrap();
-            let e = sphere_rms(&held_out_views(40), |q| model.shading(&q), |q| fit.eval(settings, q));
+            let e = sphere_rms(&held_out_views(40), |q| model.shading(q), |q| fit.eval(settings, q));
             (model.name(), e)
         })
         .collect()

@@ -108,7 +108,7 @@ fn clustering_recovers_the_two_materials_and_generalizes() {
     // Each term is its material's BRDF: on the held-out views, term for term.
     for (region, brdf) in [(0, &object.a), (1, &object.b)] {
         let term = &material.terms[owner[region].unwrap()];
-        let e = view_rms(&Striped::held_out_views(60), |q| brdf.shading(&q), |q| term.eval(q));
+        let e = view_rms(&Striped::held_out_views(60), |q| brdf.shading(q), |q| term.eval(q));
         // Measured 0.013 (glossy) and 0.047 (matte: a few glossy samples on band edges).
         assert!(e < 0.07, "term of region {region}: held-out {e}");
     }
@@ -185,7 +185,7 @@ fn four_factor_recovers_an_albedo_texture_up_to_scale() {
     // ratio, 2.5; the scale of s is shared with p, q and r), and p q r the BRDF.
     let model = Analytic::BlinnPhong { diffuse: [0.4, 0.3, 0.2], specular: [0.3, 0.3, 0.3], exponent: 20.0 };
     let albedo = |u: f64| if (u * 6.0).floor() as i64 % 2 == 0 { 1.0 } else { 0.4 };
-    let truth = |q: &Query| model.shading(&q).map(|x| x * albedo(q.uv.x));
+    let truth = |q: &Query| model.shading(q).map(|x| x * albedo(q.uv.x));
     let queries: Vec<Query> = Striped::painted_views(90).iter().flat_map(|v| v.pixels()).map(|p| p.query).collect();
     let values: Vec<[f64; 3]> = queries.iter().map(truth).collect();
     let pattern = Pattern::new(queries, true);

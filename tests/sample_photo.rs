@@ -203,7 +203,7 @@ fn photographs_of_an_analytic_sphere_recover_the_brdf() {
         let samples = Samples::gather(&views).unwrap();
         let fitted = fit(&samples, &settings, Mapping::Auto, None).unwrap();
         let material = Material::from_fit(&settings, &fitted.fit, Provenance::default()).unwrap();
-        let e = sphere_rms(&held_out_views(48), |q| model.shading(&q), |q| material.shading(q));
+        let e = sphere_rms(&held_out_views(48), |q| model.shading(q), |q| material.shading(q));
         eprintln!("{}: {} samples, train {:.4}, held-out {e:.4}", model.name(), samples.len(), fitted.fit.errors.rms_relative);
         assert!(e < bound, "{}: held-out relative RMS {e} (bound {bound})", model.name());
     }

@@ -78,8 +78,8 @@ mod tests {
         let lines: Vec<bool> = (0..n).map(|k| k % 4 == 0).collect();
         let mut p = Painting::opaque(10, 10, vec![[0.4, 0.2, 0.1]; n]).unwrap();
         // Paint everywhere, but leave the lines black and some untouched white.
-        for k in 0..n {
-            if lines[k] {
+        for (k, &line) in lines.iter().enumerate() {
+            if line {
                 p.pixels[k] = [0.0; 3];
             } else if k % 7 == 0 {
                 p.pixels[k] = [1.0; 3];
