@@ -28,11 +28,10 @@ pub(super) struct FitChange {
 impl FitControls {
     /// The fit settings these controls describe.
     pub fn settings(&self) -> Settings {
-        let mut s = Settings::uniform(self.dim, self.res);
-        for f in &mut s.factors {
-            f.smooth = self.lambda;
-        }
-        s
+        // The command line's rule (`fit --factors --res --lambda`); the sliders keep it valid,
+        // and an invalid value falls back to the default smoothing rather than breaking the window.
+        crate::pipeline::settings(self.dim, Some(self.res), Some(self.lambda))
+            .unwrap_or_else(|_| Settings::uniform(self.dim, self.res))
     }
 
     /// The controls, and what they changed.
