@@ -113,11 +113,8 @@ pub fn load_views(sampler: &mut SceneSampler, pairs: &[(PathBuf, PathBuf)], eros
     let mut loaded = Loaded { views: Vec::new(), notes: Vec::new() };
     let mut first = None;
     for (scene_path, image_path) in pairs {
-        let (scene, mut view) = sampler.load_view(scene_path, image_path, erosion)?;
-        let g = sampler.gbuffer(&scene, view.painting.width, view.painting.height)?;
-        let hit: Vec<bool> = g.pixels.iter().map(|p| p.hit).collect();
-        let lines = g.lines(&crate::render::OutlineStyle::default());
-        if let Some(left) = crate::sample::page::remove_page(&mut view.painting, &lines, &hit) {
+        let (scene, view, left) = sampler.load_painted_view(scene_path, image_path, erosion)?;
+        if let Some(left) = left {
             loaded.notes.push(left.describe(&view.name));
         }
         match &first {

@@ -321,10 +321,8 @@ impl Prepared {
         if (0..3).all(|c| peaks[c] <= top(c)) {
             return;
         }
-        let d = &self.design;
-        // A node's data weight: the sum of its interpolation weights over the samples.
-        let weight: Vec<f64> = (0..d.n).map(|col| d.col_val[d.col_ptr[col] as usize..d.col_ptr[col + 1] as usize].iter().sum()).collect();
-        for (f, &o) in self.settings.factors.iter().zip(&d.offsets) {
+        let weight = self.design.node_weights();
+        for (f, &o) in self.settings.factors.iter().zip(&self.design.offsets) {
             for c in 0..3 {
                 let reached = (0..f.len()).filter(|&i| weight[o + i] >= 1.0).map(|i| y[(o + i, c)]).fold(f64::NEG_INFINITY, f64::max);
                 if !reached.is_finite() {
@@ -390,24 +388,25 @@ impl Prepared {
 
     /// Solve: try the mapping's candidates and keep the one with the lowest linear-space
     /// RMS error on the samples (thesis 3.2.3: "try several mappings quickly with a single
-    /// pseudo-inverse, and pick the one with the smallest error"). The tables are bounded
-    /// ([`super::robust::bound_log`]): no factor, and no product over the directions, beyond
-    /// [`super::robust::BOUND`] × the painting's largest value, whatever was painted.
+    /// pseudo-inverse, and pick the one with the smallest error"), `inverted` only for a clear
+    /// gain ([`INVERTED_MARGIN`]). The tables are bounded where the painting is silent
+    /// ([`Prepared::bound`]).
     pub fn solve(&self, values: &[[f64; 3]], mapping: Mapping) -> Result<Fit> {
         let max = self.check(values)?;
         let mut best: Option<Fit> = None;
         let mut tried = Vec::new();
+        // `inverted` (f = a − ∏) must win clearly: its product falls where the data are
+        // silent (a light behind the object), so a − ∏ brightens there, and its per-channel
+        // clamp flips hues; for a small gain on the samples that is a worse material
+        // everywhere else.
+        let score = |m: &LogMap, e: &Errors| if matches!(m, LogMap::Inverted { .. }) { e.rms / (1.0 - INVERTED_MARGIN) } else { e.rms };
         for map in mapping.candidates(max)? {
             let mut y = self.apply(&self.rhs(values, &map));
             self.bound(&mut y, &map, max);
             let tables = self.split(&y);
             let errors = self.errors(&tables, &map, values);
             tried.push((map, errors));
-            // NaN errors (an overflowing exp) never win. `inverted` (f = a − ∏) must win
-            // clearly: its product falls where the data are silent (a light behind the
-            // object), so a − ∏ brightens there, and its per-channel clamp flips hues; for
-            // a small gain on the samples that is a worse material everywhere else.
-            let score = |m: &LogMap, e: &Errors| if matches!(m, LogMap::Inverted { .. }) { e.rms / (1.0 - INVERTED_MARGIN) } else { e.rms };
+            // NaN errors (an overflowing exp) never win.
             if best.as_ref().is_none_or(|b| score(&map, &errors) < score(&b.map, &b.errors)) {
                 best = Some(Fit { tables, map, errors, tried: Vec::new() });
             }

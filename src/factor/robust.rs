@@ -380,9 +380,7 @@ pub fn bound_log(y: &mut Mat<f64>, settings: &Settings, design: &Design, map: &L
     if j_count == 0 {
         return;
     }
-    // A node's data weight: the sum of its interpolation weights over the samples.
-    let weight: Vec<f64> =
-        (0..design.n).map(|col| design.col_val[design.col_ptr[col] as usize..design.col_ptr[col + 1] as usize].iter().sum()).collect();
+    let weight = design.node_weights();
     let range = FACTOR_RANGE.ln();
     let mut tops = [0.0; 3];
     for c in 0..3 {

@@ -67,6 +67,12 @@ pub struct Design {
 }
 
 impl Design {
+    /// Each node's data weight: the sum of its interpolation weights over the samples. Below
+    /// 1, no sample really reaches the node: its value is the smoothing's extrapolation.
+    pub fn node_weights(&self) -> Vec<f64> {
+        (0..self.n).map(|col| self.col_val[self.col_ptr[col] as usize..self.col_ptr[col + 1] as usize].iter().sum()).collect()
+    }
+
     /// Build $\mathbf A$ for a pattern. Errors: empty pattern, uv factors without uv, a
     /// factor no sample reaches.
     pub fn new(pattern: &Pattern, settings: &Settings) -> Result<Design> {

@@ -51,28 +51,53 @@ impl SceneSampler {
 
     /// The geometry of `scene` at `width` × `height` (see [`geometry_from_gbuffer`]).
     pub fn geometry(&mut self, scene: &Scene, width: usize, height: usize, erosion: Erosion) -> Result<Geometry> {
+        self.gbuffer_and_geometry(scene, width, height, erosion).map(|(_, geometry)| geometry)
+    }
+
+    /// The G-buffer and the geometry drawn from it.
+    fn gbuffer_and_geometry(&mut self, scene: &Scene, width: usize, height: usize, erosion: Erosion) -> Result<(GBuffer, Geometry)> {
         crate::images::check_size(width, height)?;
         let g = self.gbuffer(scene, width, height)?;
         let has_uv = scene.meshes.iter().all(|m| m.uvs.is_some());
-        geometry_from_gbuffer(&g, &scene.light, has_uv, erosion)
+        let geometry = geometry_from_gbuffer(&g, &scene.light, has_uv, erosion)?;
+        Ok((g, geometry))
     }
 
     /// Load a scene and its painting and sample them: the painting's size sets the pixel
     /// grid, and a camera aspect that disagrees with it by more than 1% is an error. Errors
     /// name the file.
     pub fn load_view(&mut self, scene_path: &Path, painting_path: &Path, erosion: Erosion) -> Result<(Scene, PaintedView)> {
+        self.load_with_gbuffer(scene_path, painting_path, erosion).map(|(scene, view, _)| (scene, view))
+    }
+
+    /// [`SceneSampler::load_view`] for a painting that may have been made on the sheet's
+    /// page: what the page put there is left out ([`super::page::remove_page`], with the
+    /// lines drawn from the same G-buffer the geometry comes from), and said.
+    pub fn load_painted_view(
+        &mut self,
+        scene_path: &Path,
+        painting_path: &Path,
+        erosion: Erosion,
+    ) -> Result<(Scene, PaintedView, Option<super::page::PageLeftovers>)> {
+        let (scene, mut view, g) = self.load_with_gbuffer(scene_path, painting_path, erosion)?;
+        let hit: Vec<bool> = g.pixels.iter().map(|p| p.hit).collect();
+        let lines = g.lines(&crate::render::OutlineStyle::default());
+        let left = super::page::remove_page(&mut view.painting, &lines, &hit);
+        Ok((scene, view, left))
+    }
+
+    fn load_with_gbuffer(&mut self, scene_path: &Path, painting_path: &Path, erosion: Erosion) -> Result<(Scene, PaintedView, GBuffer)> {
         let scene = Scene::load(scene_path)?;
         let painting = Painting::read(painting_path)?;
         let name = painting_path.display().to_string();
         check_aspect(&scene.camera, painting.width, painting.height, &name)?;
-        let geometry = self
-            .geometry(&scene, painting.width, painting.height, erosion)
-            .map_err(|e| match e {
+        let (g, geometry) =
+            self.gbuffer_and_geometry(&scene, painting.width, painting.height, erosion).map_err(|e| match e {
                 Error::Input(m) => Error::input(format!("{}: {m}", scene_path.display())),
                 other => other,
             })?;
         let view = PaintedView { name, source: scene_path.display().to_string(), geometry, painting };
-        Ok((scene, view))
+        Ok((scene, view, g))
     }
 }
 
