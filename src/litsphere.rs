@@ -129,7 +129,7 @@ fn connected_to_border(mask: &[bool], w: usize, h: usize) -> Vec<bool> {
 
 /// The circle of the one large shape of `mask`.
 fn outline_circle(mask: &[bool], w: usize, h: usize, name: &str) -> Result<Disk> {
-    let components = components(mask, w, h);
+    let (labels, components) = components(mask, w, h);
     let Some(&(largest, area)) = components.iter().max_by_key(|c| c.1) else {
         return Err(Error::input(format!("{name} is all background: no sphere to find")));
     };
@@ -143,7 +143,6 @@ fn outline_circle(mask: &[bool], w: usize, h: usize, name: &str) -> Result<Disk>
             )));
         }
     }
-    let labels = label(mask, w, h);
     let inside = |i: isize, j: isize| i >= 0 && j >= 0 && (i as usize) < w && (j as usize) < h && labels[j as usize * w + i as usize] == largest;
     let mut edge = Vec::new();
     for j in 0..h as isize {
@@ -285,15 +284,16 @@ fn label(mask: &[bool], w: usize, h: usize) -> Vec<u32> {
     labels
 }
 
-/// (label, area) of every component of `mask`.
-fn components(mask: &[bool], w: usize, h: usize) -> Vec<(u32, usize)> {
+/// The labels of `mask`'s components ([`label`]) and each one's (label, area).
+fn components(mask: &[bool], w: usize, h: usize) -> (Vec<u32>, Vec<(u32, usize)>) {
     let labels = label(mask, w, h);
     let n = labels.iter().copied().max().unwrap_or(0) as usize;
     let mut area = vec![0usize; n + 1];
     for &l in &labels {
         area[l as usize] += 1;
     }
-    (1..=n).map(|l| (l as u32, area[l])).collect()
+    let areas = (1..=n).map(|l| (l as u32, area[l])).collect();
+    (labels, areas)
 }
 
 /// Rec. 709 luminance of linear RGB.
