@@ -6,6 +6,7 @@
 //! `cargo run --release --example faults [-- SIZE] [--models] [--only CASE]`
 
 use brdfpaint::factor::{Mapping, Robust, Settings};
+use brdfpaint::pipeline::Reading;
 use brdfpaint::study::median;
 use brdfpaint::study::faults::{self, FaultyView, Faults, Row};
 use brdfpaint::study::fidelity::{held_out_presets, painted_presets, StudyView};
@@ -67,6 +68,10 @@ fn main() -> brdfpaint::Result<()> {
         .map(|(n, r)| (n, Box::new(move |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve_robust(v, Mapping::Auto, &r)) as Box<_>))
         .collect();
     let mut solvers: Vec<(&str, faults::Solve<'_>)> = vec![("least squares", &plain), ("robust", &robust)];
+    // `--read`: paintings read as `brdfpaint fit` reads them (tones smoothed, light
+    // registered); `--tones`, `--register`: one of the two.
+    let flag = |f: &str| args.iter().any(|a| a == f);
+    let register = Reading { smooth_tones: flag("--read") || flag("--tones"), register_light: flag("--read") || flag("--register") };
     if args.iter().any(|a| a == "--ablate") {
         solvers = vec![("least squares", &plain)];
         solvers.extend(ablate.iter().map(|(n, f)| (*n, &**f as faults::Solve<'_>)));
@@ -78,7 +83,7 @@ fn main() -> brdfpaint::Result<()> {
         }
         let painted = [FaultyView::new(&mut sampler, &painted_presets(1)[0], size, f.light_off_deg)?];
         for &(name, solve) in &solvers {
-            let rows = faults::measure(&painted, &held, &models, &settings, &f, solve)?;
+            let rows = faults::measure(&painted, &held, &models, &settings, &f, solve, register)?;
             println!("{case:<14} {name:<14} {}", summary(&rows));
             if per_model {
                 for r in &rows {
@@ -100,7 +105,7 @@ fn main() -> brdfpaint::Result<()> {
         }
         let painted = [FaultyView::new(&mut sampler, &front, size, f.light_off_deg)?];
         for &(name, solve) in &solvers {
-            let rows = faults::measure(&painted, &held, &models, &settings, &f, solve)?;
+            let rows = faults::measure(&painted, &held, &models, &settings, &f, solve, register)?;
             println!("{case:<14} {name:<14} {}", summary(&rows));
             if per_model {
                 for r in &rows {

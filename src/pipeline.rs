@@ -27,6 +27,8 @@ use crate::factor::{defaults, Errors, Fit, Mapping, Prepared, Settings};
 use crate::images::Rgb;
 use crate::material::map::{self, MapOptions, MapReport};
 use crate::material::{Kind, Material, Provenance};
+use crate::render::GBuffer;
+use crate::sample::{register, tones};
 use crate::sample::{check_same_model, report, Erosion, PaintedView, Samples, SceneSampler};
 
 /// What to fit: the material's kind, its factor tables, the log mapping, and for material
@@ -102,18 +104,76 @@ pub fn sources(views: &[PaintedView]) -> Vec<String> {
 /// Views loaded for a fit, and what the user should hear about them.
 pub struct Loaded {
     pub views: Vec<PaintedView>,
-    /// One line each: what was left out of a painting and why.
+    /// The G-buffer each view was sampled from (its pixels' frames: [`Loaded::read`]).
+    pub gbuffers: Vec<GBuffer>,
+    /// One line each: what was left out of a painting and why, and how it was read.
     pub notes: Vec<String>,
+}
+
+impl Loaded {
+    /// Reads the paintings for a fit of `kind` as evidence ([`read`]); the notes join the
+    /// load's. A spatially varying painting is not one product: its residual says nothing
+    /// about the light and its regions' tones are not one shading, so only the uniform kinds
+    /// are read.
+    pub fn read(&mut self, reading: &Reading, kind: Kind) -> Result<()> {
+        if !matches!(kind, Kind::Uniform | Kind::FourFactor) {
+            return Ok(());
+        }
+        let gbuffers: Vec<&GBuffer> = self.gbuffers.iter().collect();
+        let notes = read(&mut self.views, &gbuffers, reading)?;
+        self.notes.extend(notes);
+        Ok(())
+    }
+}
+
+/// How paintings are read before a uniform fit (issue 11: a painting is noisy, stylized
+/// evidence of a plausible material).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Reading {
+    /// Flat tones become the smooth shading between their edges ([`crate::sample::tones`]).
+    pub smooth_tones: bool,
+    /// Each view's light is registered to where the painting was shaded from
+    /// ([`crate::sample::register`]).
+    pub register_light: bool,
+}
+
+impl Default for Reading {
+    fn default() -> Self {
+        Reading { smooth_tones: true, register_light: true }
+    }
+}
+
+/// Reads painted views as `reading` says, in place: tones first (the light is registered
+/// on the smooth shading), then the light, with the 1D default product judging it. One
+/// note per change.
+pub fn read(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading) -> Result<Vec<String>> {
+    let mut notes = Vec::new();
+    if reading.smooth_tones {
+        for view in views.iter_mut() {
+            if let Some(toned) = tones::smooth(view) {
+                notes.push(toned.describe(&view.name));
+            }
+        }
+    }
+    if reading.register_light {
+        let turns = register::register(views, gbuffers, &Settings::default())?;
+        for (view, turn) in views.iter().zip(&turns) {
+            if turn.moved() {
+                notes.push(register::describe(view, turn));
+            }
+        }
+    }
+    Ok(notes)
 }
 
 /// Loads each (scene, painting) pair as a view and checks they paint one model (thesis
 /// 4.4). A painting made on the sheet's page loses the page's own pixels (its lines and its
 /// untouched white: [`crate::sample::page`]). Errors name the file.
 pub fn load_views(sampler: &mut SceneSampler, pairs: &[(PathBuf, PathBuf)], erosion: Erosion) -> Result<Loaded> {
-    let mut loaded = Loaded { views: Vec::new(), notes: Vec::new() };
+    let mut loaded = Loaded { views: Vec::new(), gbuffers: Vec::new(), notes: Vec::new() };
     let mut first = None;
     for (scene_path, image_path) in pairs {
-        let (scene, view, left) = sampler.load_painted_view(scene_path, image_path, erosion)?;
+        let (scene, view, gbuffer, left) = sampler.load_painted_view(scene_path, image_path, erosion)?;
         if let Some(left) = left {
             loaded.notes.push(left.describe(&view.name));
         }
@@ -122,6 +182,7 @@ pub fn load_views(sampler: &mut SceneSampler, pairs: &[(PathBuf, PathBuf)], eros
             Some((f, name)) => check_same_model(f, name, &scene, &scene_path.display().to_string())?,
         }
         loaded.views.push(view);
+        loaded.gbuffers.push(gbuffer);
     }
     Ok(loaded)
 }

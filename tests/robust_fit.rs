@@ -6,6 +6,7 @@ use brdfpaint::brdf::{held_out_views, Analytic, SphereView};
 use brdfpaint::demo::brush::SplitMix;
 use brdfpaint::factor::{prepare, LogMap, Mapping, Robust, Settings, BOUND};
 use brdfpaint::brdf::Reflectance;
+use brdfpaint::pipeline::Reading;
 use brdfpaint::study::median;
 use brdfpaint::study::faults::{self, FaultyView, Faults};
 use brdfpaint::study::fidelity::{held_out_presets, painted_presets, StudyView};
@@ -23,8 +24,8 @@ fn study(f: &Faults) -> (Vec<faults::Row>, Vec<faults::Row>) {
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
     let robust = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve_robust(v, Mapping::Auto, &Robust::default());
     (
-        faults::measure(&painted, &held, &models, &settings, f, &plain).unwrap(),
-        faults::measure(&painted, &held, &models, &settings, f, &robust).unwrap(),
+        faults::measure(&painted, &held, &models, &settings, f, &plain, Reading { smooth_tones: false, register_light: false }).unwrap(),
+        faults::measure(&painted, &held, &models, &settings, f, &robust, Reading { smooth_tones: false, register_light: false }).unwrap(),
     )
 }
 

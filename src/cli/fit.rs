@@ -63,6 +63,15 @@ pub(super) struct FitArgs {
     /// right, y up, z towards the viewer); estimated from the shading when not given.
     #[arg(long, value_name = "X,Y,Z", requires = "lit_sphere", value_parser = parse_direction, allow_hyphen_values = true)]
     light: Option<glam::DVec3>,
+    /// With --scene: fit with each scene's light exactly as given. By default a painting
+    /// shaded a few degrees (up to 20) off the scene's light is fitted with the light it was
+    /// painted with, when that explains it clearly better, and a note says so.
+    #[arg(long, requires = "scene")]
+    keep_light: bool,
+    /// With --scene: fit a painting of a few flat tones per channel (3 to 12 levels) as
+    /// painted. By default its tones are read as the smooth shading between their edges.
+    #[arg(long, requires = "scene")]
+    keep_tones: bool,
     /// Output material directory (with report.png for paintings).
     #[arg(long, value_name = "MAT")]
     out: PathBuf,
@@ -281,7 +290,9 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
     let erosion = Erosion { radius: args.erode, neighbours: Neighbours::Eight };
     let mut sampler = SceneSampler::new()?;
     let pairs: Vec<(PathBuf, PathBuf)> = args.scene.iter().cloned().zip(args.image.iter().cloned()).collect();
-    let pipeline::Loaded { views, notes } = pipeline::load_views(&mut sampler, &pairs, erosion)?;
+    let mut loaded = pipeline::load_views(&mut sampler, &pairs, erosion)?;
+    loaded.read(&pipeline::Reading { smooth_tones: !args.keep_tones, register_light: !args.keep_light }, opts.kind)?;
+    let pipeline::Loaded { views, notes, .. } = loaded;
     for note in &notes {
         println!("note: {note}");
     }

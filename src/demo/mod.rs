@@ -372,16 +372,19 @@ fn fit_material(
     }
     let pairs: Vec<(PathBuf, PathBuf)> =
         spec.paintings.iter().map(|p| (scene_paths[p.view].clone(), tmp.join("paintings").join(p.file))).collect();
-    let mut views = pipeline::load_views(sampler, &pairs, Erosion::default())?.views;
-    // Name the files as they are in DIR, not in the temporary directory.
-    for (view, p) in views.iter_mut().zip(&spec.paintings) {
-        view.name = format!("paintings/{}", p.file);
-        view.source = format!("{}/scene.gltf", paintings::views()[p.view].dir);
-    }
+    let mut loaded = pipeline::load_views(sampler, &pairs, Erosion::default())?;
     let mut opts = pipeline::Options { settings: settings.clone(), ..Default::default() };
     if let FitKind::MaterialMap { terms } = spec.kind {
         opts.kind = Kind::MaterialMap;
         opts.map.terms = terms;
+    }
+    // Read as `brdfpaint fit` reads paintings (tones, the painter's light).
+    loaded.read(&pipeline::Reading::default(), opts.kind)?;
+    let mut views = loaded.views;
+    // Name the files as they are in DIR, not in the temporary directory.
+    for (view, p) in views.iter_mut().zip(&spec.paintings) {
+        view.name = format!("paintings/{}", p.file);
+        view.source = format!("{}/scene.gltf", paintings::views()[p.view].dir);
     }
     let fitted = pipeline::fit(&views, &opts, cache)?;
     fitted.save(&views, &tmp.join("materials").join(spec.name))?;

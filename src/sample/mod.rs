@@ -40,8 +40,10 @@
 
 pub mod page;
 pub mod photo;
+pub mod register;
 pub mod report;
 pub mod scene;
+pub mod tones;
 
 use glam::DVec3;
 

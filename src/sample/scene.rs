@@ -72,18 +72,20 @@ impl SceneSampler {
 
     /// [`SceneSampler::load_view`] for a painting that may have been made on the sheet's
     /// page: what the page put there is left out ([`super::page::remove_page`], with the
-    /// lines drawn from the same G-buffer the geometry comes from), and said.
+    /// lines drawn from the same G-buffer the geometry comes from), and said. The G-buffer
+    /// comes back too: it holds each pixel's frame, for turning the light
+    /// ([`super::register`]).
     pub fn load_painted_view(
         &mut self,
         scene_path: &Path,
         painting_path: &Path,
         erosion: Erosion,
-    ) -> Result<(Scene, PaintedView, Option<super::page::PageLeftovers>)> {
+    ) -> Result<(Scene, PaintedView, GBuffer, Option<super::page::PageLeftovers>)> {
         let (scene, mut view, g) = self.load_with_gbuffer(scene_path, painting_path, erosion)?;
         let hit: Vec<bool> = g.pixels.iter().map(|p| p.hit).collect();
         let lines = g.lines(&crate::render::OutlineStyle::default());
         let left = super::page::remove_page(&mut view.painting, &lines, &hit);
-        Ok((scene, view, left))
+        Ok((scene, view, g, left))
     }
 
     fn load_with_gbuffer(&mut self, scene_path: &Path, painting_path: &Path, erosion: Erosion) -> Result<(Scene, PaintedView, GBuffer)> {

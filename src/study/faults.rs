@@ -23,6 +23,7 @@ use crate::error::{Error, Result};
 use crate::factor::{Fit, Prepared, Settings};
 use crate::images::{linear_to_srgb, srgb_to_linear, Painting};
 use crate::material::{Material, Provenance};
+use crate::pipeline::Reading;
 use super::fidelity::LIGHT_COLOR;
 use super::{held_out_error, StudyView};
 use crate::sample::scene::geometry_from_gbuffer;
@@ -346,7 +347,8 @@ pub struct Row {
 pub type Solve<'a> = &'a dyn Fn(&Prepared, &[[f64; 3]]) -> Result<Fit>;
 
 /// Fit every model from faulty paintings of `painted` and judge it on `held_out` against
-/// the clean truth.
+/// the clean truth. The paintings are read as `reading` says first (`brdfpaint fit` reads
+/// them with [`Reading::default`]).
 pub fn measure(
     painted: &[FaultyView],
     held_out: &[StudyView],
@@ -354,14 +356,18 @@ pub fn measure(
     settings: &Settings,
     faults: &Faults,
     solve: Solve<'_>,
+    reading: Reading,
 ) -> Result<Vec<Row>> {
     let mut prepared: Option<Prepared> = None;
     let mut rows = Vec::new();
+    let gbuffers: Vec<&crate::render::GBuffer> = painted.iter().map(|v| &v.view.gbuffer).collect();
     for model in models {
-        let views: Vec<PaintedView> = painted.iter().map(|v| paint(v, model, faults)).collect::<Result<_>>()?;
+        let mut views: Vec<PaintedView> = painted.iter().map(|v| paint(v, model, faults)).collect::<Result<_>>()?;
+        crate::pipeline::read(&mut views, &gbuffers, &reading)?;
         let samples = Samples::gather(&views)?;
-        // Paintings are opaque: the pattern is the same for every model and fault.
-        if prepared.as_ref().is_none_or(|p| p.samples() != samples.len()) {
+        // Paintings are opaque: the pattern is the same for every model and fault, unless
+        // each model's light was registered.
+        if reading.register_light || prepared.as_ref().is_none_or(|p| p.samples() != samples.len()) {
             prepared = Some(crate::factor::prepare(&samples.pattern, settings)?);
         }
         let p = prepared.as_ref().ok_or_else(|| Error::Numeric("no prepared system".into()))?;

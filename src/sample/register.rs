@@ -1,0 +1,308 @@
+//! The painter's light (issue 11): where a painting was shaded from, near the scene's light.
+//!
+//! People paint a highlight a little off and a terminator a few degrees round from where the
+//! scene's light puts them. Fitted with the scene's light, that shift goes into the factors:
+//! on one view l, h and v move together, so the tables bend to put the highlight where it
+//! was painted, and under any other light the material is wrong (held-out error 0.116 for a
+//! shading painted 10° off: BENCHMARKS.md, faults).
+//!
+//! So the light is *registered*, as one registers two images. Candidates are the scene's
+//! light turned by a small rotation $R$ (about axes perpendicular to it, within
+//! [`RADIUS_DEG`]); for each, every sample's light direction becomes $R\,l$ in world space
+//! (the G-buffer keeps each pixel's frame).
+//!
+//! - **Search: a physical proxy, not the factors.** The factored product cannot pick the
+//!   light: on one view a diffuse painting is explained almost as well by any light on the
+//!   great circle through the light and the eye, since $p(l)\,q(h)\,r(v)$ bends to follow
+//!   (a Lambertian sphere painted 10° off was fitted best 18° off, the wrong way). A small
+//!   physical basis does not bend: luminance as ambient + $\max(n\cdot l, 0)$ +
+//!   $\min(n\cdot l, 0)$ (a Gooch painting's cool side) + Blinn-Phong lobes
+//!   $(n\cdot h)^e$ of a few exponents, fitted by linear least squares with relative
+//!   weights. Its isophotes are circles about $l$ and its highlight sits at $h$, so its best
+//!   light is where the painting's shading and highlight say the light was.
+//! - **Acceptance: the factors.** The proxy is not the material and is biased by a degree or
+//!   two on materials it cannot express (retro-reflection, masking), so its light is kept
+//!   only when the factored fit itself explains the painting better with it than with the
+//!   scene's light ([`MIN_GAIN`]), and explains it as one material ([`MAX_RESIDUAL`]). A
+//!   render of a physical material is explained best by its own light, so it is never moved.
+//!
+//! A point light is turned the same way: every sample's direction to it is rotated, which is
+//! the light moved on a sphere about each point (exact for a distant light; the falloff is
+//! kept).
+
+use glam::{DQuat, DVec3};
+
+use super::{Geometry, PaintedView, Samples};
+use crate::error::Result;
+use crate::factor::{Mapping, Settings};
+use crate::render::GBuffer;
+
+/// The largest turn searched, in degrees: painters' errors, not another lighting.
+pub const RADIUS_DEG: f64 = 20.0;
+/// A turn is kept only when the factored fit's relative RMS with it is at least this
+/// fraction below its RMS with the scene's light.
+pub const MIN_GAIN: f64 = 0.05;
+/// A turn is kept only when the painting, lit from there, looks like one material: the
+/// factored fit's relative RMS at most this. A painting of several materials (bands of
+/// albedo) is explained better by some light or other, never well, and its light is the
+/// scene's to keep (`fit` warns that it is not one material instead).
+pub const MAX_RESIDUAL: f64 = 0.15;
+/// Turns smaller than this (degrees) are not worth a note or a different scene.
+const MIN_TURN_DEG: f64 = 1.0;
+
+/// One view's light as registered.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Turn {
+    /// The rotation applied to the scene's light (identity: kept as given).
+    pub rotation: DQuat,
+    /// Its angle in degrees.
+    pub degrees: f64,
+    /// Relative RMS of the factored fit with the scene's light, and with the turned one.
+    pub before: f64,
+    pub after: f64,
+}
+
+impl Turn {
+    /// The scene's light, kept.
+    fn kept(score: f64) -> Turn {
+        Turn { rotation: DQuat::IDENTITY, degrees: 0.0, before: score, after: score }
+    }
+
+    /// Whether the light was moved.
+    pub fn moved(&self) -> bool {
+        self.degrees > 0.0
+    }
+}
+
+/// World-space direction of a local one at a G-buffer pixel (its frame: tangent, bitangent
+/// $= \mathrm{sign}\,(n \times t)$, normal; shaders/surface.glsl).
+fn frame(g: &GBuffer, k: usize) -> [DVec3; 3] {
+    let p = &g.pixels[k];
+    let n = p.normal.as_dvec3();
+    let t = p.tangent.truncate().as_dvec3();
+    let sign = if p.tangent.w < 0.0 { -1.0 } else { 1.0 };
+    [t, n.cross(t) * sign, n]
+}
+
+/// `geometry` with the light turned by `rotation`: each pixel's light direction, taken to
+/// world space through its G-buffer frame, rotated and taken back. Views, uvs and the light
+/// delivered are kept.
+pub fn turned(g: &GBuffer, geometry: &Geometry, rotation: DQuat) -> Geometry {
+    let mut out = geometry.clone();
+    for (k, px) in out.pixels.iter_mut().enumerate() {
+        let Some(px) = px else { continue };
+        let [t, b, n] = frame(g, k);
+        let l0 = g.pixels[k].l.as_dvec3();
+        let world = rotation * (t * l0.x + b * l0.y + n * l0.z);
+        px.query.l = DVec3::new(world.dot(t), world.dot(b), world.dot(n)).normalize_or(DVec3::Z);
+    }
+    out
+}
+
+/// How well the factored product of `settings` explains `samples`: relative RMS of its
+/// least-squares fit with the offset mapping.
+fn explained(samples: &Samples, settings: &Settings) -> Result<f64> {
+    let prepared = crate::factor::prepare(&samples.pattern, settings)?;
+    Ok(prepared.solve(&samples.values, Mapping::Offset(None))?.errors.rms_relative)
+}
+
+/// Most samples the proxy search fits (every k-th; seven unknowns need few).
+const SEARCH_SAMPLES: usize = 8000;
+
+/// The search's samples with one view's light free: the others' queries as they are, and
+/// for the free view's the frame and world-space light direction of each, with each
+/// sample's luminance.
+struct Search {
+    fixed: Vec<(DVec3, DVec3, f64)>,
+    free: Vec<([DVec3; 3], DVec3, DVec3, f64)>,
+    /// The free view's mean world-space light direction.
+    light: DVec3,
+    /// 5% of the largest luminance: the proxy's weights are 1 / (value + this).
+    floor: f64,
+}
+
+impl Search {
+    fn new(samples: &Samples, free_view: usize, g: &GBuffer) -> Search {
+        let stride = samples.len().div_ceil(SEARCH_SAMPLES).max(1);
+        let mut search = Search { fixed: Vec::new(), free: Vec::new(), light: DVec3::ZERO, floor: 0.0 };
+        let mut sum = DVec3::ZERO;
+        let mut max = 0.0f64;
+        for k in (0..samples.len()).step_by(stride) {
+            let (q, c) = (&samples.pattern.queries[k], samples.values[k]);
+            let y = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+            max = max.max(y);
+            let (view, pixel) = samples.origin[k];
+            if view == free_view {
+                let [t, b, n] = frame(g, pixel);
+                let l = g.pixels[pixel].l.as_dvec3();
+                let world = t * l.x + b * l.y + n * l.z;
+                sum += world;
+                search.free.push(([t, b, n], world, q.v, y));
+            } else {
+                search.fixed.push((q.l, q.v, y));
+            }
+        }
+        search.light = sum.normalize_or(DVec3::Z);
+        search.floor = 0.05 * max.max(1e-12);
+        search
+    }
+
+    /// The proxy's relative RMS with the free view's light turned by `rotation`.
+    fn score(&self, rotation: DQuat) -> f64 {
+        let turned = self.free.iter().map(|&([t, b, n], world, v, y)| {
+            let w = rotation * world;
+            (DVec3::new(w.dot(t), w.dot(b), w.dot(n)), v, y)
+        });
+        proxy(self.fixed.iter().copied().chain(turned), self.floor)
+    }
+}
+
+/// The search's physical basis (module doc) at one sample: ambient, $\max(n\cdot l, 0)$,
+/// $\min(n\cdot l, 0)$, and Blinn-Phong lobes $(n\cdot h)^e$, $e$ = 4, 16, 64, 256 (by
+/// squaring), lit side only.
+fn basis(l: DVec3, v: DVec3) -> [f64; BASIS] {
+    let nl = l.z.max(0.0);
+    let nh = if nl > 0.0 { (l + v).normalize_or(DVec3::Z).z.max(0.0) } else { 0.0 };
+    let e4 = nh * nh * nh * nh;
+    let e16 = e4 * e4 * e4 * e4;
+    let e64 = e16 * e16 * e16 * e16;
+    [1.0, nl, l.z.min(0.0), e4, e16, e64, e64 * e64 * e64 * e64]
+}
+const BASIS: usize = 7;
+
+/// Relative RMS of a least-squares fit of luminance by [`basis`] to (l, v, luminance)
+/// samples. Each is weighted by 1 / (its value + `floor`), so dark and bright regions count
+/// alike, as in the relative RMS a fit reports.
+fn proxy(samples: impl Iterator<Item = (DVec3, DVec3, f64)> + Clone, floor: f64) -> f64 {
+    let mut a = [[0.0f64; BASIS]; BASIS];
+    let mut r = [0.0f64; BASIS];
+    for (l, v, y) in samples.clone() {
+        let w = 1.0 / (y + floor);
+        let b = basis(l, v).map(|x| x * w);
+        for i in 0..BASIS {
+            for j in i..BASIS {
+                a[i][j] += b[i] * b[j];
+            }
+            r[i] += b[i] * y * w;
+        }
+    }
+    for i in 0..BASIS {
+        for j in 0..i {
+            a[i][j] = a[j][i];
+        }
+    }
+    let Some(x) = solve_small(a, r) else { return f64::INFINITY };
+    let (mut se, mut sy) = (0.0, 0.0);
+    for (l, v, y) in samples {
+        let w = 1.0 / (y + floor);
+        let f: f64 = basis(l, v).iter().zip(&x).map(|(b, x)| b * x).sum();
+        se += ((f - y) * w).powi(2);
+        sy += (y * w).powi(2);
+    }
+    (se / sy.max(1e-300)).sqrt()
+}
+
+/// Solves a small dense system by Gaussian elimination with partial pivoting (and a tiny
+/// ridge, so an unused basis function does not make it singular).
+fn solve_small<const N: usize>(mut a: [[f64; N]; N], mut r: [f64; N]) -> Option<[f64; N]> {
+    let scale = (0..N).map(|i| a[i][i]).fold(0.0, f64::max).max(1e-300);
+    for (i, row) in a.iter_mut().enumerate() {
+        row[i] += 1e-9 * scale;
+    }
+    for c in 0..N {
+        let p = (c..N).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
+        if a[p][c].abs() < 1e-300 {
+            return None;
+        }
+        a.swap(c, p);
+        r.swap(c, p);
+        for i in c + 1..N {
+            let f = a[i][c] / a[c][c];
+            for j in c..N {
+                a[i][j] -= f * a[c][j];
+            }
+            r[i] -= f * r[c];
+        }
+    }
+    let mut x = [0.0; N];
+    for i in (0..N).rev() {
+        x[i] = (r[i] - (i + 1..N).map(|j| a[i][j] * x[j]).sum::<f64>()) / a[i][i];
+    }
+    Some(x)
+}
+
+/// Registers each view's light (one pass over the views, each searched with the others as
+/// registered so far) and turns the views' geometry to it. `gbuffers[i]` is the G-buffer
+/// view `i` was sampled from. Returns one [`Turn`] per view.
+pub fn register(views: &mut [PaintedView], gbuffers: &[&GBuffer], settings: &Settings) -> Result<Vec<Turn>> {
+    let mut turns = Vec::with_capacity(views.len());
+    for i in 0..views.len() {
+        let g = gbuffers[i];
+        let original = views[i].geometry.clone();
+        let search = Search::new(&Samples::gather(views)?, i, g);
+        // Two axes perpendicular to the light: turning about them moves the light's
+        // direction; turning about the light itself would not.
+        let (u, w) = search.light.any_orthonormal_pair();
+        let rotation = |a: f64, b: f64| {
+            let axis = u * a + w * b;
+            let angle = axis.length();
+            if angle == 0.0 { DQuat::IDENTITY } else { DQuat::from_axis_angle(axis / angle, angle.to_radians()) }
+        };
+        let evaluate = |a: f64, b: f64| search.score(rotation(a, b));
+        let mut best = (0.0, 0.0, evaluate(0.0, 0.0));
+        // A coarse grid, then a pattern search halving the step about the best point.
+        let coarse = RADIUS_DEG / 4.0;
+        let mut candidates: Vec<(f64, f64)> = Vec::new();
+        for a in -4..=4 {
+            for b in -4..=4 {
+                candidates.push((a as f64 * coarse, b as f64 * coarse));
+            }
+        }
+        let mut step = coarse;
+        loop {
+            for (a, b) in candidates.drain(..) {
+                if (a == 0.0 && b == 0.0) || a.hypot(b) > RADIUS_DEG * 1.001 {
+                    continue;
+                }
+                let s = evaluate(a, b);
+                if s < best.2 {
+                    best = (a, b, s);
+                }
+            }
+            step /= 2.0;
+            if step < MIN_TURN_DEG / 2.0 {
+                break;
+            }
+            for da in [-1.0, 0.0, 1.0] {
+                for db in [-1.0, 0.0, 1.0] {
+                    if da != 0.0 || db != 0.0 {
+                        candidates.push((best.0 + da * step, best.1 + db * step));
+                    }
+                }
+            }
+        }
+        let degrees = best.0.hypot(best.1);
+        let before = explained(&Samples::gather(views)?, settings)?;
+        let mut turn = Turn::kept(before);
+        if degrees >= MIN_TURN_DEG {
+            let rotation = rotation(best.0, best.1);
+            views[i].geometry = turned(g, &original, rotation);
+            let after = explained(&Samples::gather(views)?, settings)?;
+            if after <= (1.0 - MIN_GAIN) * before && after <= MAX_RESIDUAL {
+                turn = Turn { rotation, degrees, before, after };
+            } else {
+                views[i].geometry = original;
+            }
+        }
+        turns.push(turn);
+    }
+    Ok(turns)
+}
+
+/// What the user hears about a view whose light was moved.
+pub fn describe(view: &PaintedView, turn: &Turn) -> String {
+    format!(
+        "{}: the painting looks lit {:.0}° away from the scene's light (relative RMS {:.3} → {:.3} with the light turned); fitted with the painting's light (--keep-light uses the scene's as given)",
+        view.name, turn.degrees, turn.before, turn.after
+    )
+}

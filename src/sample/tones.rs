@@ -1,0 +1,192 @@
+//! Flat tones (issue 11): a posterized painting read as the smooth shading it suggests.
+//!
+//! A painting made of a few flat tones per channel (a posterize filter, cel-style value
+//! steps, a limited palette) is evidence of a smooth shading seen through a quantizer: a
+//! pixel painted at level $L_i$ had a true value in $[m_{i-1}, m_i]$, the midpoints between
+//! neighbouring levels, and the true value crosses a midpoint exactly on the edge between two
+//! tones. Fitted as it is, the steps go into the 1D tables as rings and cliffs and the
+//! material is as posterized as the painting (held-out error 0.18 at 6 levels: BENCHMARKS.md,
+//! faults). So each channel is *reconstructed*: inside a tone region the value runs from the
+//! lower edge's midpoint to the upper edge's, in proportion to the pixel's Euclidean distance
+//! to the nearest darker and brighter tone,
+//!
+//! $$ x = m_{i-1} + (m_i - m_{i-1}) \frac{d_-}{d_- + d_+}, $$
+//!
+//! the linear interpolation between the two iso-lines the painting does give. A region with no
+//! darker (brighter) neighbour, the shadow core or the highlight's plateau, runs from its one
+//! edge's midpoint to half a step beyond its level at its farthest pixel. All in the display
+//! (sRGB) code where the quantizer worked.
+//!
+//! A painting counts as toned when, over its samples, every channel takes at most
+//! [`MAX_LEVELS`] distinct 8-bit codes and some channel at least [`MIN_LEVELS`]: two tones are a
+//! toon style to keep, hundreds a painted gradient.
+
+use super::PaintedView;
+use crate::images::{linear_to_srgb, srgb_to_linear};
+
+/// Most distinct codes per channel of a toned painting.
+pub const MAX_LEVELS: usize = 12;
+/// Fewest distinct codes (in its busiest channel) of a toned painting; fewer is a toon style.
+pub const MIN_LEVELS: usize = 3;
+/// Fewest samples worth reconstructing: a small painting's regions are too thin to measure.
+const MIN_SAMPLES: usize = 500;
+
+/// What was done to one view's tones.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Toned {
+    /// Distinct codes per channel.
+    pub levels: [usize; 3],
+}
+
+impl Toned {
+    /// The note a user reads.
+    pub fn describe(&self, painting: &str) -> String {
+        format!(
+            "{painting}: painted in flat tones ({}, {} and {} levels in R, G, B): read as the smooth shading between tone edges (--keep-tones fits the tones as painted)",
+            self.levels[0], self.levels[1], self.levels[2]
+        )
+    }
+}
+
+/// Reconstructs a toned view's painting in place (module doc); `None`, untouched, when the
+/// painting is not toned.
+pub fn smooth(view: &mut PaintedView) -> Option<Toned> {
+    let (w, h) = (view.painting.width, view.painting.height);
+    let samples = view.geometry.sample_pixels(&view.painting);
+    if samples.len() < MIN_SAMPLES {
+        return None;
+    }
+    let mut inside = vec![false; w * h];
+    for &k in &samples {
+        inside[k] = true;
+    }
+    let codes: Vec<[u8; 3]> = view.painting.pixels.iter().map(|p| p.map(|x| (linear_to_srgb(x) * 255.0).round().clamp(0.0, 255.0) as u8)).collect();
+    let mut levels = [0usize; 3];
+    let mut tables: Vec<Vec<u8>> = Vec::new();
+    for c in 0..3 {
+        let mut seen = [false; 256];
+        for &k in &samples {
+            seen[codes[k][c] as usize] = true;
+        }
+        let table: Vec<u8> = (0..=255u8).filter(|&v| seen[v as usize]).collect();
+        levels[c] = table.len();
+        tables.push(table);
+    }
+    if levels.iter().any(|&n| n > MAX_LEVELS) || levels.iter().all(|&n| n < MIN_LEVELS) {
+        return None;
+    }
+    for (c, table) in tables.iter().enumerate() {
+        if table.len() < 2 {
+            continue;
+        }
+        let index: Vec<Option<usize>> =
+            (0..w * h).map(|k| inside[k].then(|| table.binary_search(&codes[k][c]).unwrap_or(0))).collect();
+        let value = |i: usize| table[i] as f64 / 255.0;
+        for i in 0..table.len() {
+            let region: Vec<usize> = samples.iter().copied().filter(|&k| index[k] == Some(i)).collect();
+            if region.is_empty() {
+                continue;
+            }
+            let below = distance_to(&index.iter().map(|x| x.is_some_and(|j| j < i)).collect::<Vec<_>>(), w, h);
+            let above = distance_to(&index.iter().map(|x| x.is_some_and(|j| j > i)).collect::<Vec<_>>(), w, h);
+            // The edges' values: midpoints to the neighbouring levels, or half a step beyond
+            // this level where there is no neighbour on that side.
+            let step_lo = if i > 0 { value(i) - value(i - 1) } else { value(i + 1) - value(i) };
+            let step_hi = if i + 1 < table.len() { value(i + 1) - value(i) } else { value(i) - value(i - 1) };
+            let (lo, hi) = (value(i) - step_lo / 2.0, value(i) + step_hi / 2.0);
+            let far = |d: &[f64]| region.iter().map(|&k| d[k]).filter(|d| d.is_finite()).fold(0.0, f64::max).max(1.0);
+            let (far_below, far_above) = (far(&below), far(&above));
+            for &k in &region {
+                let (db, da) = (below[k], above[k]);
+                let x = match (db.is_finite(), da.is_finite()) {
+                    (true, true) => lo + (hi - lo) * db / (db + da),
+                    // The brightest region of its neighbourhood: from its lower edge up.
+                    (true, false) => lo + (hi - lo) * (db / far_below),
+                    (false, true) => hi - (hi - lo) * (da / far_above),
+                    (false, false) => value(i),
+                };
+                view.painting.pixels[k][c] = srgb_to_linear(x.clamp(0.0, 1.0) as f32);
+            }
+        }
+    }
+    Some(Toned { levels })
+}
+
+/// Euclidean distance from each pixel to the nearest `set` pixel (infinite when there is
+/// none): the exact transform of Felzenszwalb and Huttenlocher (2012), by rows then columns.
+fn distance_to(set: &[bool], w: usize, h: usize) -> Vec<f64> {
+    const FAR: f64 = 1e20;
+    let mut d: Vec<f64> = set.iter().map(|&s| if s { 0.0 } else { FAR }).collect();
+    let mut line = Vec::new();
+    for j in 0..h {
+        line.clear();
+        line.extend_from_slice(&d[j * w..(j + 1) * w]);
+        let out = transform_1d(&line);
+        d[j * w..(j + 1) * w].copy_from_slice(&out);
+    }
+    for i in 0..w {
+        line.clear();
+        line.extend((0..h).map(|j| d[j * w + i]));
+        let out = transform_1d(&line);
+        for (j, x) in out.into_iter().enumerate() {
+            d[j * w + i] = x;
+        }
+    }
+    d.into_iter().map(|x| if x >= FAR / 2.0 { f64::INFINITY } else { x.sqrt() }).collect()
+}
+
+/// The 1D squared distance transform of sampled function `f` (lower envelope of parabolas).
+fn transform_1d(f: &[f64]) -> Vec<f64> {
+    let n = f.len();
+    if n == 0 {
+        return Vec::new();
+    }
+    let mut out = vec![0.0; n];
+    let mut v = vec![0usize; n];
+    let mut z = vec![0.0f64; n + 1];
+    let mut k = 0;
+    z[0] = f64::NEG_INFINITY;
+    z[1] = f64::INFINITY;
+    let parabola = |q: usize, p: usize| ((f[q] + (q * q) as f64) - (f[p] + (p * p) as f64)) / (2.0 * (q as f64 - p as f64));
+    for q in 1..n {
+        // z[0] is -inf, so this stops at k = 0 at the latest.
+        let mut s = parabola(q, v[k]);
+        while s <= z[k] {
+            k -= 1;
+            s = parabola(q, v[k]);
+        }
+        k += 1;
+        v[k] = q;
+        z[k] = s;
+        z[k + 1] = f64::INFINITY;
+    }
+    let mut k = 0;
+    for (q, o) in out.iter_mut().enumerate() {
+        while z[k + 1] < q as f64 {
+            k += 1;
+        }
+        let p = v[k];
+        *o = (q as f64 - p as f64).powi(2) + f[p];
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn distances_are_euclidean() {
+        // One set pixel at (2, 1) in a 5x4 grid.
+        let mut set = vec![false; 20];
+        set[5 + 2] = true;
+        let d = distance_to(&set, 5, 4);
+        for j in 0..4 {
+            for i in 0..5 {
+                let e = ((i as f64 - 2.0).powi(2) + (j as f64 - 1.0).powi(2)).sqrt();
+                assert!((d[j * 5 + i] - e).abs() < 1e-12, "({i}, {j}): {} vs {e}", d[j * 5 + i]);
+            }
+        }
+        assert!(distance_to(&[false; 6], 3, 2).iter().all(|x| x.is_infinite()));
+    }
+}
