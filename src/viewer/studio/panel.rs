@@ -61,6 +61,7 @@ impl Studio {
         if self.mode == Mode::Paint {
             egui::CollapsingHeader::new("Paint").default_open(true).show(ui, |ui| self.paint_ui(renderer, ui));
         }
+        self.sphere_panel(renderer, ui);
         egui::CollapsingHeader::new("Timing").default_open(false).show(ui, |ui| self.timing_ui(ui));
     }
 
