@@ -235,12 +235,13 @@ impl Studio {
 
     /// Whether frames should keep coming without input.
     pub fn busy(&self) -> bool {
-        self.easel.refine_needed || self.easel.canvas_changed || self.sphere_waiting()
+        self.easel.refine_needed || self.easel.canvas_changed
     }
 
-    /// Whether a prepare runs in the background (its result needs a frame when it lands).
+    /// Whether a prepare (or a lit sphere's view under a new light) is made in the
+    /// background: its result needs a frame when it lands.
     pub fn preparing(&self) -> bool {
-        self.easel.session.preparing()
+        self.easel.session.preparing() || self.sphere_waiting()
     }
 
     pub fn watching(&self) -> bool {
