@@ -44,6 +44,7 @@ impl Studio {
         ui.separator();
 
         egui::CollapsingHeader::new("Model and material").default_open(true).show(ui, |ui| self.catalogue_ui(renderer, ui));
+        self.sphere_panel(renderer, ui);
         egui::CollapsingHeader::new("Camera and light").default_open(true).show(ui, |ui| self.camera_ui(ui));
         egui::CollapsingHeader::new("Fit").default_open(true).show(ui, |ui| {
             let change = self.fit.ui(ui);
@@ -61,7 +62,6 @@ impl Studio {
         if self.mode == Mode::Paint {
             egui::CollapsingHeader::new("Paint").default_open(true).show(ui, |ui| self.paint_ui(renderer, ui));
         }
-        self.sphere_panel(renderer, ui);
         egui::CollapsingHeader::new("Timing").default_open(false).show(ui, |ui| self.timing_ui(ui));
     }
 
