@@ -29,6 +29,7 @@ use glam::{DMat3, DVec3, Mat4, Vec3};
 
 use crate::error::{Error, Result};
 use crate::factor::cache::Cache;
+use crate::factor::{Input, Settings};
 use crate::images::{neighbours4, Painting};
 use crate::pipeline::{self, Fitted, Options};
 use crate::scene::{sphere_mesh, Camera, Light, Projection, Scene};
@@ -481,6 +482,34 @@ pub fn shrink(p: &Painting, max_side: usize) -> (Painting, usize) {
     (out, f)
 }
 
+/// Damping of the light factor's deviation from its physical shape in a lit-sphere fit
+/// ([`settings`]).
+pub const LIGHT_DAMP: f64 = 1e-3;
+/// The floor of that shape behind the surface, a fraction of the picture's largest value.
+pub const LIGHT_FLOOR: f64 = 0.02;
+
+/// The fit settings of a lit sphere: `base` with the light factor drawn to its physical
+/// shape where the picture leaves it free ([`Settings::light_prior`], with first-difference
+/// damping [`LIGHT_DAMP`] of its deviation from $\cos\theta_l$).
+///
+/// Why: a lit sphere is one view, often lit from near the viewer, and with the light at the
+/// viewer every pixel has $\theta_l = \theta_h = \theta_v$: the picture fixes only the product
+/// $p\,q\,r$ along that diagonal, and the priors split it. Left to the Laplacian, the split
+/// is arbitrary: Blender's `check_rim_dark` MatCap (shading by $n \cdot v$ alone) had its rim
+/// falloff in $q(\theta_h)$ and $p(\theta_l)$ rising towards grazing light, so its material
+/// was brighter under a side light than under a front one. With the prior the falloff is the
+/// light's, as irradiance is, and a light behind the surface finds the floor; where the
+/// picture shows otherwise (a Gooch sphere's lit unlit side) the data win. Measured on the 23
+/// bundled MatCaps under a light sweep around the bunny (tests/lit_sphere.rs).
+pub fn settings(base: &Settings) -> Settings {
+    let mut s = base.clone();
+    for f in s.factors.iter_mut().filter(|f| f.input == Input::Light) {
+        f.damp = LIGHT_DAMP;
+    }
+    s.light_prior = Some(LIGHT_FLOOR);
+    s
+}
+
 /// A lit-sphere picture made ready to fit: read, box-filtered to at most a given side, its
 /// disk found, and everything but the sphere (the background, and the rim, which mixes with
 /// it) made unpainted. What `fit --lit-sphere` and the viewer's lit-sphere session start from.
@@ -556,6 +585,7 @@ pub fn fit(path: &Path, light: Option<DVec3>, opts: &Options, cache: Option<&Cac
 
 /// [`fit`], with the picture box-filtered to at most `max_side` pixels a side.
 pub fn fit_sized(path: &Path, light: Option<DVec3>, opts: &Options, cache: Option<&Cache>, max_side: usize) -> Result<LitSphere> {
+    let opts = &Options { settings: settings(&opts.settings), ..opts.clone() };
     let picture = Picture::read(path, max_side)?;
     let (light, estimate) = match light {
         Some(l) => (direction(l).map_err(|e| Error::input(format!("--{e}")))?, None),

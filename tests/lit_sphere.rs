@@ -78,6 +78,8 @@ fn object_luminance(image: &brdfpaint::render::Image, w: usize, h: usize) -> f64
 
 #[test]
 fn every_bundled_matcap_gets_a_front_light_and_darkens_when_the_light_goes_behind() {
+    // The issue asks for 0.5; every MatCap does better (see the end).
+    const DARKEST: f64 = 0.45;
     let ctx = HeadlessContext::new().unwrap();
     let mut renderer = Renderer::new(ctx.gl()).unwrap();
     let scene = Scene::from_preset("bunny", "front").unwrap();
@@ -88,7 +90,6 @@ fn every_bundled_matcap_gets_a_front_light_and_darkens_when_the_light_goes_behin
     names.sort();
     assert!(names.len() >= 20, "{names:?}");
     let mut failures = Vec::new();
-    let mut ratios = Vec::new();
     for path in &names {
         let stem = path.file_stem().unwrap().to_string_lossy().to_string();
         let out = dir.path().join(&stem);
@@ -112,33 +113,17 @@ fn every_bundled_matcap_gets_a_front_light_and_darkens_when_the_light_goes_behin
         }
         let (lo, hi) = frames.iter().fold((f64::MAX, 0.0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
         eprintln!("{stem}: light z {z:.2}; sweep darkest/brightest {:.3}", lo / hi);
-        ratios.push((stem.clone(), lo / hi));
-        // The two reflection checks are calibration pictures (stripes mirrored from all
-        // around), not materials lit by a key light: nothing says they should darken.
-        if lo > 0.5 * hi && !stem.starts_with("reflection_check") {
-            failures.push(format!("{stem}: darkest frame {lo:.4} > 0.5 x brightest {hi:.4}"));
+        if lo > DARKEST * hi {
+            failures.push(format!("{stem}: darkest frame {lo:.4} > {DARKEST} x brightest {hi:.4}"));
         }
     }
-    // Measured (darkest/brightest): every MatCap darkens to 0.36 or less but three. Their
-    // estimated lights are at the viewer (z 1.00, 1.00, 0.94), and with the light at the
-    // viewer every sample has θ_l = θ_h = θ_v: only the product p q r along that diagonal is
-    // in the picture, and the priors split it. check_rim_dark (0.53; shading by n·v alone, for
-    // which the headlight is right) gets its rim falloff in q(θ_h), with p(θ_l) rising to make
-    // up for it (r(θ_v), damped, stays flat), so lights from behind find a bright p. pearl
-    // (0.68) and resin (0.67) are mostly ambient and environment light, which no key light
-    // explains, so their fits keep that glow under any light. Damping q too (1e-4) darkens
-    // check_rim_dark to 0.04 but lifts check_rim_light from 0.10 to 0.64 and pearl to 0.89;
-    // the robust fit's light prior (factor::robust) gives 0.84, 0.58 and 0.58: no general fix
-    // yet. The bars keep them from getting worse, and every other MatCap from joining them.
-    let known = [("check_rim_dark", 0.55), ("pearl", 0.70), ("resin", 0.70)];
-    eprintln!("not darkening to 0.5: {failures:#?}");
-    for f in &failures {
-        assert!(known.iter().any(|(k, _)| f.starts_with(&format!("{k}:"))), "{f}");
-    }
-    for (name, bar) in known {
-        let ratio = ratios.iter().find(|r| r.0 == name).unwrap_or_else(|| panic!("{name} was not swept")).1;
-        assert!(ratio <= bar, "{name}: darkest/brightest {ratio:.3} > {bar}");
-    }
+    // Measured (darkest/brightest): resin 0.40, the reflection checks 0.38, every other
+    // MatCap 0.35 or less. Before the lit-sphere light prior (litsphere::settings) three did
+    // not darken to 0.5 (check_rim_dark 0.53, pearl 0.68, resin 0.67; the reflection checks
+    // 0.62): lit from at or near the viewer, their pictures fix little more than the product
+    // p q r along θ_l = θ_h = θ_v, and the Laplacian's split of it left p(θ_l) rising towards
+    // grazing light (check_rim_dark) or flat and extrapolated past the horizon.
+    assert!(failures.is_empty(), "{failures:#?}");
 }
 
 #[test]

@@ -132,10 +132,11 @@ impl SphereSession {
     }
 
     /// Starts `session` over with this picture's view as its only view (the session's
-    /// settings and mapping are kept); the view's index.
+    /// settings, under the lit-sphere rule [`litsphere::settings`], and its mapping); the
+    /// view's index.
     pub fn start(&self, renderer: &mut Renderer, session: &mut PaintSession) -> Result<usize> {
         let view = self.view(renderer, self.light)?;
-        *session = PaintSession::new(session.settings().clone(), session.mapping());
+        *session = PaintSession::new(litsphere::settings(session.settings()), session.mapping());
         Ok(session.add_view(view))
     }
 

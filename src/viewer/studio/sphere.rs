@@ -125,7 +125,7 @@ impl Studio {
     pub fn start_lit_sphere(&mut self, renderer: &mut Renderer, sphere: SphereSession) -> Result<()> {
         let view = sphere.view(renderer, sphere.light())?;
         let e = &mut self.easel;
-        e.session = PaintSession::new(e.session.settings().clone(), e.session.mapping());
+        e.session = PaintSession::new(litsphere::settings(&self.fit.settings()), e.session.mapping());
         e.view_names.clear();
         e.watcher = None;
         e.scene_mode = true;
@@ -164,8 +164,20 @@ impl Studio {
         self.sphere.dragging = false;
         self.easel.scene_mode = false;
         let model = self.easel.paint_model.clone();
-        if let Err(e) = self.easel.restart(renderer, model, crate::scene::preset_names()[0]) {
+        let restarted = self.easel.restart(renderer, model, crate::scene::preset_names()[0]);
+        // The standard views are fitted by the fit controls' settings, without the lit-sphere rule.
+        if let Err(e) = restarted.and_then(|()| self.easel.session.set_settings(self.fit.settings())) {
             self.status.fail(e.to_string());
+        }
+    }
+
+    /// The settings the fit controls ask for, under the lit-sphere rule while one is open.
+    pub(super) fn fit_settings(&self) -> crate::factor::Settings {
+        let s = self.fit.settings();
+        if self.sphere.session.is_some() {
+            litsphere::settings(&s)
+        } else {
+            s
         }
     }
 
