@@ -48,6 +48,8 @@ pub struct SphereSession {
     /// The render thread, started at the first light asked for (`None` before, or where no
     /// second GL context can be had: then views are rendered on the caller's).
     lighting: Option<Lighting>,
+    /// Whether the render thread was tried (it is not tried again).
+    lighting_tried: bool,
     /// The light of the view being rendered, and a rendered view waiting to be put in place.
     rendering: Option<DVec3>,
     ready: Option<(DVec3, PaintView)>,
@@ -104,7 +106,7 @@ impl SphereSession {
                 (e.direction, Some(e))
             }
         };
-        Ok(SphereSession { picture, estimate, light, wanted: None, lighting: None, rendering: None, ready: None })
+        Ok(SphereSession { picture, estimate, light, wanted: None, lighting: None, lighting_tried: false, rendering: None, ready: None })
     }
 
     /// The light the fit is for, or will be once the light asked for is applied: what a
@@ -155,7 +157,8 @@ impl SphereSession {
     /// over it, with their undo history); the session prepares it at its next refit. Returns
     /// whether a view was put in place. Without a render thread the view is rendered here.
     pub fn update(&mut self, renderer: &mut Renderer, session: &mut PaintSession, k: usize, solved: bool) -> Result<bool> {
-        if self.wanted.is_some() && self.lighting.is_none() {
+        if self.wanted.is_some() && !self.lighting_tried {
+            self.lighting_tried = true;
             self.lighting = Lighting::start(&self.picture);
         }
         if let (Some(lighting), Some(_)) = (&self.lighting, self.rendering) {
