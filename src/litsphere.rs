@@ -29,6 +29,7 @@ use glam::{DMat3, DVec3, Mat4, Vec3};
 
 use crate::error::{Error, Result};
 use crate::factor::cache::Cache;
+use crate::factor::{Input, Settings};
 use crate::images::{neighbours4, Painting};
 use crate::pipeline::{self, Fitted, Options};
 use crate::scene::{sphere_mesh, Camera, Light, Projection, Scene};
@@ -481,6 +482,88 @@ pub fn shrink(p: &Painting, max_side: usize) -> (Painting, usize) {
     (out, f)
 }
 
+/// Damping of the light factor's deviation from its physical shape in a lit-sphere fit
+/// ([`settings`]).
+pub const LIGHT_DAMP: f64 = 1e-3;
+/// The floor of that shape behind the surface, a fraction of the picture's largest value.
+pub const LIGHT_FLOOR: f64 = 0.02;
+
+/// The fit settings of a lit sphere: `base` with the light factor drawn to its physical
+/// shape where the picture leaves it free ([`Settings::light_prior`], with first-difference
+/// damping [`LIGHT_DAMP`] of its deviation from $\cos\theta_l$).
+///
+/// Why: a lit sphere is one view, often lit from near the viewer, and with the light at the
+/// viewer every pixel has $\theta_l = \theta_h = \theta_v$: the picture fixes only the product
+/// $p\,q\,r$ along that diagonal, and the priors split it. Left to the Laplacian, the split
+/// is arbitrary: Blender's `check_rim_dark` MatCap (shading by $n \cdot v$ alone) had its rim
+/// falloff in $q(\theta_h)$ and $p(\theta_l)$ rising towards grazing light, so its material
+/// was brighter under a side light than under a front one. With the prior the falloff is the
+/// light's, as irradiance is, and a light behind the surface finds the floor; where the
+/// picture shows otherwise (a Gooch sphere's lit unlit side) the data win. Measured on the 23
+/// bundled MatCaps under a light sweep around the bunny (tests/lit_sphere.rs).
+pub fn settings(base: &Settings) -> Settings {
+    let mut s = base.clone();
+    for f in s.factors.iter_mut().filter(|f| f.input == Input::Light) {
+        f.damp = LIGHT_DAMP;
+    }
+    s.light_prior = Some(LIGHT_FLOOR);
+    s
+}
+
+/// A lit-sphere picture made ready to fit: read, box-filtered to at most a given side, its
+/// disk found, and everything but the sphere (the background, and the rim, which mixes with
+/// it) made unpainted. What `fit --lit-sphere` and the viewer's lit-sphere session start from.
+#[derive(Clone, Debug)]
+pub struct Picture {
+    /// The file, as the user gave it (errors and provenance name it).
+    pub name: String,
+    pub painting: Painting,
+    pub disk: Disk,
+    pub outline: Outline,
+}
+
+impl Picture {
+    /// Reads the picture at `path` (PNG, JPEG, EXR) at most `max_side` pixels a side and
+    /// finds its disk. Errors, one line each: unreadable, all background, no disk, two shapes.
+    pub fn read(path: &Path, max_side: usize) -> Result<Picture> {
+        let name = path.display().to_string();
+        Picture::new(name, &Painting::read(path)?, max_side)
+    }
+
+    /// [`Picture::read`] of a painting already in memory, named `name`.
+    pub fn new(name: String, original: &Painting, max_side: usize) -> Result<Picture> {
+        let (mut painting, _) = shrink(original, max_side.max(16));
+        let (disk, outline) = find_disk(&painting, &name)?;
+        // Only the sphere is paint: the background (and the rim, which mixes with it) is not.
+        for j in 0..painting.height {
+            for i in 0..painting.width {
+                if disk.normal(i, j, 0.98).is_none() {
+                    painting.alpha[j * painting.width + i] = 0.0;
+                }
+            }
+        }
+        Ok(Picture { name, painting, disk, outline })
+    }
+
+    /// The key light estimated from the shading ([`estimate_light`]).
+    pub fn estimate_light(&self) -> Result<LightEstimate> {
+        estimate_light(&self.painting, &self.disk)
+    }
+
+    /// The scene of this picture lit from `light` ([`scene`]).
+    pub fn scene(&self, light: DVec3) -> Scene {
+        scene(&self.disk, self.painting.width, self.painting.height, light)
+    }
+}
+
+/// `light` as a unit direction. Errors: zero or not finite (one line).
+pub fn direction(light: DVec3) -> Result<DVec3> {
+    if !(light.is_finite() && light.length() > 1e-9) {
+        return Err(Error::input(format!("light {light}: not a direction")));
+    }
+    Ok(light.normalize())
+}
+
 /// A lit-sphere fit: the material and everything a caller reports or writes.
 pub struct LitSphere {
     pub fitted: Fitted,
@@ -502,33 +585,17 @@ pub fn fit(path: &Path, light: Option<DVec3>, opts: &Options, cache: Option<&Cac
 
 /// [`fit`], with the picture box-filtered to at most `max_side` pixels a side.
 pub fn fit_sized(path: &Path, light: Option<DVec3>, opts: &Options, cache: Option<&Cache>, max_side: usize) -> Result<LitSphere> {
-    let name = path.display().to_string();
-    let original = Painting::read(path)?;
-    let (mut painting, _) = shrink(&original, max_side.max(16));
-    let (disk, outline) = find_disk(&painting, &name)?;
-    // Only the sphere is paint: the background (and the rim, which mixes with it) is not.
-    for j in 0..painting.height {
-        for i in 0..painting.width {
-            if disk.normal(i, j, 0.98).is_none() {
-                painting.alpha[j * painting.width + i] = 0.0;
-            }
+    let opts = &Options { settings: settings(&opts.settings), ..opts.clone() };
+    let picture = Picture::read(path, max_side)?;
+    let (light, estimate) = match light {
+        Some(l) => (direction(l).map_err(|e| Error::input(format!("--{e}")))?, None),
+        None => {
+            let e = picture.estimate_light()?;
+            (e.direction, Some(e))
         }
-    }
-    let estimate = match light {
-        Some(_) => None,
-        None => Some(estimate_light(&painting, &disk)?),
     };
-    let light = match (light, &estimate) {
-        (Some(l), _) => {
-            if !(l.is_finite() && l.length() > 1e-9) {
-                return Err(Error::input(format!("--light {l}: not a direction")));
-            }
-            l.normalize()
-        }
-        (None, Some(e)) => e.direction,
-        (None, None) => unreachable!("estimated above"),
-    };
-    let scene = scene(&disk, painting.width, painting.height, light);
+    let scene = picture.scene(light);
+    let Picture { name, painting, disk, outline } = picture;
     let mut sampler = SceneSampler::new()?;
     let geometry = sampler.geometry(&scene, painting.width, painting.height, Erosion::default())?;
     let view = PaintedView { name: name.clone(), source: format!("{name} (lit sphere)"), geometry, painting };

@@ -78,6 +78,8 @@ fn object_luminance(image: &brdfpaint::render::Image, w: usize, h: usize) -> f64
 
 #[test]
 fn every_bundled_matcap_gets_a_front_light_and_darkens_when_the_light_goes_behind() {
+    // The issue asks for 0.5; every MatCap does better (see the end).
+    const DARKEST: f64 = 0.45;
     let ctx = HeadlessContext::new().unwrap();
     let mut renderer = Renderer::new(ctx.gl()).unwrap();
     let scene = Scene::from_preset("bunny", "front").unwrap();
@@ -111,19 +113,17 @@ fn every_bundled_matcap_gets_a_front_light_and_darkens_when_the_light_goes_behin
         }
         let (lo, hi) = frames.iter().fold((f64::MAX, 0.0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
         eprintln!("{stem}: light z {z:.2}; sweep darkest/brightest {:.3}", lo / hi);
-        // The two reflection checks are calibration pictures (stripes mirrored from all
-        // around), not materials lit by a key light: nothing says they should darken.
-        if lo > 0.5 * hi && !stem.starts_with("reflection_check") {
-            failures.push(format!("{stem}: darkest frame {lo:.4} > 0.5 x brightest {hi:.4}"));
+        if lo > DARKEST * hi {
+            failures.push(format!("{stem}: darkest frame {lo:.4} > {DARKEST} x brightest {hi:.4}"));
         }
     }
-    // Measured: every MatCap but check_rim_dark (0.53), pearl (0.68) and resin (0.67), whose
-    // shading is mostly ambient and rim light that no single key light explains (their fits
-    // keep that glow under any light; resin's is also bounded, at some cost to its sweep).
-    // Before fits were bounded, rim blow-ups under a headlight made their sweeps look darker
-    // than they were.
-    eprintln!("not darkening enough: {failures:#?}");
-    assert!(failures.len() <= 3, "{failures:#?}");
+    // Measured (darkest/brightest): resin 0.40, the reflection checks 0.38, every other
+    // MatCap 0.35 or less. Before the lit-sphere light prior (litsphere::settings) three did
+    // not darken to 0.5 (check_rim_dark 0.53, pearl 0.68, resin 0.67; the reflection checks
+    // 0.62): lit from at or near the viewer, their pictures fix little more than the product
+    // p q r along θ_l = θ_h = θ_v, and the Laplacian's split of it left p(θ_l) rising towards
+    // grazing light (check_rim_dark) or flat and extrapolated past the horizon.
+    assert!(failures.is_empty(), "{failures:#?}");
 }
 
 #[test]
@@ -197,4 +197,76 @@ fn bad_pictures_get_one_line_each() {
     let run = bin().args(["fit", "--lit-sphere"]).arg(&blank).args(["--light", "0,0,0", "--out"]).arg(dir.path().join("o")).output().unwrap();
     assert_eq!(run.status.code(), Some(2), "{}", String::from_utf8_lossy(&run.stderr));
     assert!(Path::new(MATCAPS).exists());
+}
+
+/// The largest difference between two fits' tables, relative to the larger value.
+fn table_difference(a: &[Vec<[f64; 3]>], b: &[Vec<[f64; 3]>]) -> f64 {
+    assert_eq!(a.len(), b.len(), "factor count");
+    let mut worst = 0.0f64;
+    for (ta, tb) in a.iter().zip(b) {
+        assert_eq!(ta.len(), tb.len(), "table size");
+        for (x, y) in ta.iter().zip(tb) {
+            for c in 0..3 {
+                worst = worst.max((x[c] - y[c]).abs() / x[c].abs().max(y[c].abs()).max(1e-12));
+            }
+        }
+    }
+    worst
+}
+
+#[test]
+fn dragging_the_light_of_a_live_lit_sphere_refits_as_fit_with_that_light() {
+    use brdfpaint::factor::{Mapping, Settings};
+    use brdfpaint::litsphere;
+    use brdfpaint::live::{PaintSession, SphereSession};
+    use brdfpaint::pipeline::Options;
+    let path = Path::new(MATCAPS).join("clay_studio.exr");
+    let ctx = HeadlessContext::new().unwrap();
+    let mut renderer = Renderer::new(ctx.gl()).unwrap();
+
+    // Opened: the light is `fit --lit-sphere`'s estimate, and the settled fit its material.
+    let t = std::time::Instant::now();
+    let mut sphere = SphereSession::open(&path, None).unwrap();
+    let mut session = PaintSession::new(Settings::default(), Mapping::Auto);
+    let k = sphere.start(&mut renderer, &mut session).unwrap();
+    let opened = session.settle().unwrap();
+    eprintln!("opened and fitted in {:.2} s ({} samples)", t.elapsed().as_secs_f64(), opened.samples);
+    let cli = litsphere::fit(&path, None, &Options::default(), None).unwrap();
+    // (The fit renders on a context of its own.)
+    ctx.make_current().unwrap();
+    assert_eq!(Some(sphere.light()), cli.estimate.map(|e| e.direction));
+    assert_eq!(opened.samples, cli.fitted.samples.len());
+    let d = table_difference(&session.fit().unwrap().tables, &cli.fitted.solved.fit.tables);
+    assert!(d < 1e-9, "estimated light: live tables differ from fit's by {d:e}");
+
+    // A drag: the light moves every few frames; each move only asks. The views under new
+    // lights are rendered on a thread and prepared on another, so no frame waits for them.
+    let target = DVec3::new(0.6, 0.3, 0.74).normalize();
+    let start = sphere.light();
+    let (mut applied, mut slowest) = (0, 0.0f64);
+    for step in 1..=6 {
+        sphere.set_light(start.lerp(target, step as f64 / 6.0)).unwrap();
+        for _ in 0..8 {
+            let frame = std::time::Instant::now();
+            applied += sphere.update(&mut renderer, &mut session, k, true).unwrap() as usize;
+            session.refit().unwrap();
+            slowest = slowest.max(frame.elapsed().as_secs_f64());
+            std::thread::sleep(std::time::Duration::from_millis(25));
+        }
+    }
+    eprintln!("{applied} views under new lights put in place during the drag; slowest frame {slowest:.3} s");
+    assert!(applied >= 1, "the fit followed the drag");
+    // A refit of 200k samples, not a render or a prepare (those take 0.3-1 s here).
+    assert!(slowest < 0.25, "a drag frame took {slowest:.3} s");
+    let t = std::time::Instant::now();
+    sphere.settle(&mut renderer, &mut session, k).unwrap();
+    eprintln!("refitted for the dropped light in {:.2} s", t.elapsed().as_secs_f64());
+    assert!((sphere.light() - target).length() < 1e-12 && !sphere.waiting());
+    let cli = litsphere::fit(&path, Some(target), &Options::default(), None).unwrap();
+    let d = table_difference(&session.fit().unwrap().tables, &cli.fitted.solved.fit.tables);
+    assert!(d < 1e-9, "dragged light: live tables differ from `fit --light`'s by {d:e}");
+    let live = session.material().unwrap();
+    let q = brdfpaint::factor::Query { l: target, v: DVec3::Z, uv: glam::DVec2::ZERO };
+    let (a, b) = (live.shading(&q), cli.fitted.material.shading(&q));
+    assert!((0..3).all(|c| (a[c] - b[c]).abs() <= 1e-9 * b[c].abs().max(1e-9)), "{a:?} vs {b:?}");
 }

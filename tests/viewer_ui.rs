@@ -9,6 +9,20 @@ use brdfpaint::render::Renderer;
 use brdfpaint::viewer::{Mode, Start, Studio, PANEL_WIDTH};
 use egui::{Event, Key, Modifiers, PointerButton, Pos2, Rect};
 
+/// A file dropped on the window, as the window's integration hands it to egui.
+#[derive(Debug)]
+struct Dropped(std::path::PathBuf);
+
+impl egui::DroppedFile for Dropped {
+    fn path(&self) -> &std::path::Path {
+        &self.0
+    }
+
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
+
 struct Harness {
     ctx: egui::Context,
     studio: Studio,
@@ -43,11 +57,19 @@ impl Harness {
 
     /// One frame at 1280×800 (one point per pixel) with these input events.
     fn frame(&mut self, events: Vec<Event>) {
+        self.frame_with_drops(events, Vec::new());
+    }
+
+    /// One frame with these input events and these files dropped on the window.
+    fn frame_with_drops(&mut self, events: Vec<Event>, dropped: Vec<std::path::PathBuf>) {
         let mut raw = egui::RawInput {
             screen_rect: Some(Rect::from_min_size(Pos2::ZERO, egui::vec2(1280.0, 800.0))),
             events,
+            dropped_files: dropped.into_iter().map(|p| std::sync::Arc::new(Dropped(p)) as egui::DroppedFileHandle).collect(),
             ..Default::default()
         };
+        // The window's order: background work, shortcuts, the UI, the refit.
+        self.studio.tick(&mut self.renderer);
         self.studio.handle_input(&self.ctx, &mut raw);
         let (studio, renderer) = (&mut self.studio, &mut self.renderer);
         let out = self.ctx.run_ui(raw, |ui| studio.ui(renderer, ui));
@@ -257,4 +279,91 @@ fn the_status_tells_the_current_state() {
     h.frame(vec![]);
     let s = h.studio.status();
     assert!(!s.contains("example painting") && s.contains("material other") && s.contains("opened material"), "{s}");
+}
+
+/// Frames until `done` holds (background renders and prepares land between them), at most
+/// 60 s.
+fn frames_until(h: &mut Harness, what: &str, done: impl Fn(&Studio) -> bool) {
+    let start = std::time::Instant::now();
+    while !done(&h.studio) {
+        assert!(start.elapsed().as_secs() < 60, "waited a minute for {what}: {}", h.studio.status());
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        h.frame(vec![]);
+    }
+}
+
+#[test]
+fn a_dropped_matcap_is_a_lit_sphere_with_the_estimated_light_whose_sun_drags_the_fit() {
+    use brdfpaint::litsphere::{estimate_light, Picture, MAX_SIDE};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/matcaps/blender_cc0/exr/clay_studio.exr");
+    let mut h = Harness::new(Mode::View);
+    let example = h.studio.current_material().unwrap().clone();
+    // Square, like the standard views, but its disk is not where their sphere is: no question.
+    h.frame_with_drops(vec![], vec![path.clone()]);
+    assert!(h.studio.error().is_none(), "{:?}", h.studio.error());
+    let picture = Picture::read(&path, MAX_SIDE).unwrap();
+    let estimated = estimate_light(&picture.painting, &picture.disk).unwrap();
+    let sphere = h.studio.lit_sphere().expect("a lit-sphere session");
+    assert_eq!(sphere.light(), estimated.direction);
+    assert_eq!(sphere.picture.disk, picture.disk);
+    assert_eq!(h.studio.mode, Mode::Paint);
+    assert_eq!(h.studio.session().views.len(), 1);
+    assert!(h.studio.status().contains("light estimated at"), "{}", h.studio.status());
+    // The panel says where the light is and how sure the estimate is.
+    let e = estimated.direction;
+    let shown = format!("light ({:.2}, {:.2}, {:.2})", e.x, e.y, e.z);
+    assert!(h.texts().iter().any(|t| t.0 == shown), "no '{shown}' in the panel");
+    assert!(h.texts().iter().any(|t| t.0.contains(&format!("sure to within {:.0}°", estimated.spread_deg))));
+    for (text, _, rows) in h.texts() {
+        for pair in rows.windows(2) {
+            let (a, b) = (pair[0].chars().last(), pair[1].chars().next());
+            assert!(!(a.is_some_and(char::is_alphanumeric) && b.is_some_and(char::is_alphanumeric)), "'{text}' wraps inside a word: {rows:?}");
+        }
+    }
+    frames_until(&mut h, "the lit sphere's fit", |s| !s.preparing() && s.current_material().is_some_and(|m| *m != example));
+    let fitted = h.studio.current_material().unwrap().clone();
+
+    // The sun sits over the sphere where the light is; dragging it to the upper right moves
+    // the light there and the fit follows, while the picture stays as it was.
+    let view = h.studio.layout.view_rect.unwrap();
+    let side = view.x as f32 - 4.0 - PANEL_WIDTH;
+    let scale = side / picture.painting.width as f32;
+    let d = picture.disk;
+    let centre = Pos2::new(PANEL_WIDTH + d.cx as f32 * scale, d.cy as f32 * scale);
+    let radius = d.r as f32 * scale;
+    let sun = centre + egui::vec2(e.x as f32, -e.y as f32) * radius;
+    let target = glam::DVec3::new(0.6, 0.5, (1.0f64 - 0.36 - 0.25).sqrt());
+    let to = centre + egui::vec2(0.6, -0.5) * radius;
+    let painting = h.studio.session().views[0].canvas.painting().clone();
+    h.drag(sun, to);
+    let asked = h.studio.lit_sphere().unwrap().light();
+    assert!(asked.angle_between(target).to_degrees() < 0.5, "the light followed the sun: {asked} vs {target}");
+    assert!(h.studio.session().views[0].canvas.painting() == &painting, "dragging the sun does not paint");
+    // The 3D view is lit from there too, in its camera's frame.
+    let towards = h.studio.stage.orbit.world_from_camera().transform_vector3(asked.as_vec3());
+    assert!((h.studio.stage.light.direction() - towards).length() < 1e-4);
+    frames_until(&mut h, "the refit under the dragged light", |s| {
+        !s.preparing() && s.lit_sphere().is_some_and(|l| l.applied_light() == asked)
+    });
+    let refitted = h.studio.current_material().unwrap();
+    assert!(*refitted != fitted, "the fit moved with the light");
+}
+
+#[test]
+fn a_dropped_painting_of_the_sphere_view_asks_whether_it_is_a_lit_sphere() {
+    let mut h = Harness::new(Mode::Paint);
+    // The active view's own reference, transparent around the object: a painting of that
+    // view, and a picture of a sphere too.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("sphere-view.png");
+    let reference = h.studio.session().views[0].reference_painting();
+    std::fs::write(&path, reference.encode_png16().unwrap()).unwrap();
+    h.frame_with_drops(vec![], vec![path.clone()]);
+    h.frame(vec![]);
+    assert!(h.studio.lit_sphere().is_none(), "not taken as a lit sphere without asking");
+    let answer = h.find("Painting of view 'front-left'");
+    h.click(answer);
+    assert!(h.studio.lit_sphere().is_none());
+    assert!(h.studio.status().contains("sphere-view.png"), "{}", h.studio.status());
+    assert!(h.studio.error().is_none(), "{:?}", h.studio.error());
 }

@@ -27,6 +27,11 @@ pub(super) struct ViewArgs {
     /// Refit whenever another program rewrites this painting of --scene.
     #[arg(long, value_name = "P.png", requires = "scene")]
     watch: Option<PathBuf>,
+    /// Open a picture of a painted sphere or a MatCap (PNG, JPEG, EXR) as the view to paint:
+    /// fitted as `fit --lit-sphere` fits it, its estimated light drawn as a sun over the
+    /// sphere, to drag.
+    #[arg(long, value_name = "IMAGE", conflicts_with_all = ["scene", "watch"])]
+    lit_sphere: Option<PathBuf>,
     /// Start in paint mode.
     #[arg(long)]
     paint: bool,
@@ -77,6 +82,11 @@ pub(super) fn run(args: ViewArgs) -> Result<()> {
     if let Some(s) = args.render_scale.filter(|s| !(min..=1.0).contains(s)) {
         return Err(Error::input(format!("--render-scale {s} is outside {min}..=1")));
     }
+    // Read and its light estimated before a window opens: a bad picture is one line.
+    let lit_sphere = match &args.lit_sphere {
+        Some(p) => Some(brdfpaint::live::SphereSession::open(p, None)?),
+        None => None,
+    };
     let mode = if args.paint || args.watch.is_some() { Mode::Paint } else { Mode::View };
     let start = Start {
         model,
@@ -90,5 +100,5 @@ pub(super) fn run(args: ViewArgs) -> Result<()> {
         uv: args.uv,
     };
     let hold = if args.hold.is_finite() && args.hold > 0.0 { Duration::from_secs_f64(args.hold.min(3600.0)) } else { Duration::ZERO };
-    viewer::run(Options { start, window, frames: args.frames.map(|n| n.max(1)), screenshot: args.screenshot, hold })
+    viewer::run(Options { start, lit_sphere, window, frames: args.frames.map(|n| n.max(1)), screenshot: args.screenshot, hold })
 }

@@ -265,7 +265,19 @@ impl Prepared {
     pub fn rhs(&self, values: &[[f64; 3]], map: &LogMap) -> Mat<f64> {
         let mut b = vec![[0.0; 4]; self.design.n];
         self.design.transpose_apply(values, &|c, x| map.forward_all(c, x), &mut b);
-        Mat::from_fn(self.design.n, 3, |r, c| b[r][c])
+        let mut b = Mat::from_fn(self.design.n, 3, |r, c| b[r][c]);
+        if let Some(floor) = self.settings.light_prior {
+            // The light factor's regularization then acts on its deviation from the physical
+            // shape (Settings::light_prior): only this side of the system moves.
+            let mut max = [0.0f64; 3];
+            for v in values {
+                for c in 0..3 {
+                    max[c] = max[c].max(v[c]);
+                }
+            }
+            b += super::robust::light_prior_rhs(&self.settings, &self.design, map, max, floor);
+        }
+        b
     }
 
     /// Log-space tables $\tilde{\mathbf y}$ (n × 3) for a right-hand side.

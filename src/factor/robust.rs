@@ -340,7 +340,7 @@ fn light_shape(spec: &FactorSpec, node: usize, map: &LogMap, c: usize, max: f64,
 /// $\mathbf R_p \tilde{\mathbf t}$: the light factor's regularization applied to its prior
 /// shape (n × 3; zero outside the light factor). Adding it to $\mathbf A^\top \tilde{\mathbf
 /// f}$ makes those rows penalize $\tilde p - \tilde t$ instead of $\tilde p$.
-fn light_prior_rhs(settings: &Settings, design: &Design, map: &LogMap, max: [f64; 3], eps: f64) -> Mat<f64> {
+pub(super) fn light_prior_rhs(settings: &Settings, design: &Design, map: &LogMap, max: [f64; 3], eps: f64) -> Mat<f64> {
     let mut b = Mat::zeros(design.n, 3);
     for (j, spec) in settings.factors.iter().enumerate() {
         if spec.input != Input::Light {

@@ -135,6 +135,13 @@ pub enum Method {
 pub struct Settings {
     pub factors: Vec<FactorSpec>,
     pub method: Method,
+    /// A physical prior on the light factor, where the data leave it free: its smoothing and
+    /// damping rows act on its deviation from $\cos\theta_l$ (falling to this floor, times
+    /// the painting's largest value, behind the surface) instead of on the factor itself, as
+    /// in [`super::robust`]. Only the right-hand side changes (the prepared system does not).
+    /// `None`, the default: off. Lit spheres turn it on ([`crate::litsphere::settings`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub light_prior: Option<f64>,
 }
 
 /// Defaults, chosen by measuring relative RMS on held-out lights and views (not on the
@@ -219,6 +226,7 @@ impl Settings {
                 factor(Input::View, Domain::Hemisphere, damp),
             ],
             method: Method::Cholesky,
+            light_prior: None,
         }
     }
 
@@ -273,6 +281,9 @@ impl Settings {
                     f.param
                 )));
             }
+        }
+        if let Some(e) = self.light_prior.filter(|e| !(e.is_finite() && *e > 0.0 && *e <= 1.0)) {
+            return Err(Error::input(format!("light prior floor {e} must be in (0, 1]")));
         }
         if self.unknowns() > MAX_UNKNOWNS {
             return Err(Error::input(format!(

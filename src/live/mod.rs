@@ -9,6 +9,7 @@
 //! - [`session`]: the prepared system and the refit a stroke triggers; several views feed
 //!   one fit.
 //! - [`watch`]: refit when another program rewrites a painting.
+//! - [`sphere`]: a lit sphere or MatCap as a view, with a light the user moves.
 //! - [`slots`]: the pixels of a view that are samples.
 //! - [`example_painting`]: the bundled painting a first run fits.
 //!
@@ -37,6 +38,7 @@ pub mod canvas;
 mod example;
 pub mod session;
 pub mod slots;
+pub mod sphere;
 pub mod view;
 pub mod watch;
 
@@ -44,5 +46,6 @@ pub use canvas::{blank, Brush, Canvas, CanvasRect, Painting};
 pub use example::example_painting;
 pub use session::{fit_views, PaintSession, Refit};
 pub use slots::Slot;
+pub use sphere::SphereSession;
 pub use view::{check_painting_size, read_painting_for, PaintView, DEFAULT_SIZE};
 pub use watch::{WatchStatus, Watcher};

@@ -195,7 +195,7 @@ impl Material {
             if t.factors.is_empty() {
                 return bad(format!("term {k} has no factors"));
             }
-            let settings = crate::factor::Settings { factors: t.factors.iter().map(|f| f.spec.clone()).collect(), method: Default::default() };
+            let settings = crate::factor::Settings { factors: t.factors.iter().map(|f| f.spec.clone()).collect(), method: Default::default(), light_prior: None };
             settings.validate().or_else(|e| bad(format!("term {k}: {e}")))?;
             for (j, f) in t.factors.iter().enumerate() {
                 if f.texels.len() != f.spec.len() {

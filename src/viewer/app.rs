@@ -28,6 +28,8 @@ use crate::scene::{Camera, Light, Projection};
 /// How `brdfpaint view` runs.
 pub struct Options {
     pub start: Start,
+    /// `view --lit-sphere`: a lit sphere opened (its light estimated) to start with.
+    pub lit_sphere: Option<crate::live::SphereSession>,
     /// Initial window size, physical pixels.
     pub window: [u32; 2],
     /// Exit after this many frames (tests).
@@ -304,7 +306,10 @@ impl Running {
         });
         let mut renderer = Renderer::new(&gl)?;
         let view3d = View3d::new(&gl)?;
-        let studio = Studio::new(&mut renderer, options.start)?;
+        let mut studio = Studio::new(&mut renderer, options.start)?;
+        if let Some(sphere) = options.lit_sphere {
+            studio.start_lit_sphere(&mut renderer, sphere)?;
+        }
         window.set_visible(true);
         window.request_redraw();
         Ok(Running {

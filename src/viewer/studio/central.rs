@@ -125,7 +125,10 @@ impl Studio {
         let to_canvas = |p: Pos2| glam::Vec2::new((p.x - rect.min.x) / scale, (p.y - rect.min.y) / scale);
         let pointer = response.interact_pointer_pos().or(response.hover_pos());
         let down = ui.input(|i| i.pointer.button_down(PointerButton::Primary));
+        // A lit sphere's sun takes the pointer from the brush while it is grabbed.
+        let light = self.sphere_canvas(ui, rect, scale);
         match self.tools.tool {
+            _ if light => {}
             Tool::Brush | Tool::Eraser => {
                 if response.is_pointer_button_down_on() && down {
                     if let Some(p) = pointer {
@@ -172,7 +175,7 @@ impl Studio {
             }
         }
         if let Some(p) = response.hover_pos() {
-            if self.tools.tool != Tool::Fill {
+            if self.tools.tool != Tool::Fill && !light {
                 ui.painter_at(rect).circle_stroke(p, self.tools.brush.radius * scale, Stroke::new(1.0, Color32::from_gray(90)));
             }
         }

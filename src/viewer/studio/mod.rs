@@ -6,6 +6,7 @@
 //! - [`stage`]: what the 3D view draws (the model on the GPU, camera, light, render scale);
 //! - [`easel`]: the live painting (session, views, watched file, what changed);
 //! - [`tools`]: the paint tools; [`fit_controls`]: the fit settings;
+//! - [`sphere`]: a lit sphere or MatCap as the view to paint, and its movable light;
 //! - [`status`]: the status line, errors and timings; [`tables`]: the factor-table plots.
 //!
 //! The UI that draws them: [`panel`] (the side panel), [`central`] (canvas and 3D view),
@@ -17,6 +18,7 @@ mod easel;
 mod fit_controls;
 mod panel;
 pub mod shortcuts;
+mod sphere;
 mod stage;
 mod status;
 mod tables;
@@ -103,6 +105,7 @@ pub struct Studio {
     tables: TablePlots,
     canvas_textures: CanvasTextures,
     save_material: String,
+    sphere: sphere::Sphere,
     pub layout: Layout,
 }
 
@@ -127,6 +130,7 @@ impl Studio {
             tables: TablePlots::default(),
             canvas_textures: CanvasTextures::default(),
             save_material: "material".into(),
+            sphere: Default::default(),
             layout: Layout { pixels_per_point: 1.0, ..Layout::default() },
         };
         match start.scene {
@@ -210,6 +214,7 @@ impl Studio {
 
     /// Work that does not wait for input: the watched file, a finished background prepare.
     pub fn tick(&mut self, renderer: &mut Renderer) {
+        self.sphere_tick(renderer);
         if let Some(mut w) = self.easel.watcher.take() {
             let generation = self.easel.session.views.first().map(|v| (v.width, v.height));
             if w.poll(&mut self.easel.session, renderer).is_some() && matches!(w.status(), WatchStatus::Fitted { .. }) {
@@ -233,9 +238,10 @@ impl Studio {
         self.easel.refine_needed || self.easel.canvas_changed
     }
 
-    /// Whether a prepare runs in the background (its result needs a frame when it lands).
+    /// Whether a prepare (or a lit sphere's view under a new light) is made in the
+    /// background: its result needs a frame when it lands.
     pub fn preparing(&self) -> bool {
-        self.easel.session.preparing()
+        self.easel.session.preparing() || self.sphere_waiting()
     }
 
     pub fn watching(&self) -> bool {
@@ -332,6 +338,7 @@ impl Studio {
     pub fn ui(&mut self, renderer: &mut Renderer, ui: &mut egui::Ui) {
         self.layout.pixels_per_point = ui.ctx().pixels_per_point();
         self.handle_drops(renderer, ui);
+        self.sphere_ask(renderer, ui);
         let panel = egui::Panel::left("controls").exact_size(PANEL_WIDTH).resizable(false).show(ui, |ui| {
             // Status and timing are pinned to the panel's foot, always in sight; the controls
             // scroll above them.
@@ -365,8 +372,9 @@ impl Studio {
     }
 
     /// Opens a dropped file: a model (.glb/.gltf), a material (directory or material.json),
-    /// or a painting for the active view (.png/.jpg/.exr; of the view's camera aspect, any
-    /// size, as for `brdfpaint fit`).
+    /// a picture of a lit sphere or MatCap, or a painting for the active view (.png/.jpg/.exr;
+    /// of the view's camera aspect, any size, as for `brdfpaint fit`); a picture that could
+    /// be either is asked about ([`sphere`]).
     pub fn open_file(&mut self, renderer: &mut Renderer, path: &Path) -> Result<()> {
         let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).unwrap_or_default();
         if path.is_dir() || path.file_name().is_some_and(|n| n == "material.json") {
@@ -385,18 +393,21 @@ impl Studio {
                 self.note(format!("opened model {}", path.display()));
                 Ok(())
             }
-            "png" | "jpg" | "jpeg" | "exr" => {
-                self.easel.load_painting(renderer, path)?;
-                self.mode = Mode::Paint;
-                let label = self.easel.view_label(self.easel.active);
-                self.note(format!("painting {} loaded into view '{label}'", path.display()));
-                Ok(())
-            }
+            "png" | "jpg" | "jpeg" | "exr" => self.open_picture(renderer, path),
             _ => Err(Error::input(format!(
-                "{}: not a model (.glb, .gltf), a material (directory or material.json) or a painting (.png, .jpg, .exr)",
+                "{}: not a model (.glb, .gltf), a material (directory or material.json) or a picture (.png, .jpg, .exr)",
                 path.display()
             ))),
         }
+    }
+
+    /// Loads a painting file into the active view.
+    fn open_painting(&mut self, renderer: &mut Renderer, path: &Path) -> Result<()> {
+        self.easel.load_painting(renderer, path)?;
+        self.mode = Mode::Paint;
+        let label = self.easel.view_label(self.easel.active);
+        self.note(format!("painting {} loaded into view '{label}'", path.display()));
+        Ok(())
     }
 
     fn select_model(&mut self, renderer: &mut Renderer, k: usize) -> Result<()> {

@@ -44,12 +44,14 @@ impl Studio {
         ui.separator();
 
         egui::CollapsingHeader::new("Model and material").default_open(true).show(ui, |ui| self.catalogue_ui(renderer, ui));
+        self.sphere_panel(renderer, ui);
         egui::CollapsingHeader::new("Camera and light").default_open(true).show(ui, |ui| self.camera_ui(ui));
         egui::CollapsingHeader::new("Fit").default_open(true).show(ui, |ui| {
             let change = self.fit.ui(ui);
+            let settings = self.fit_settings();
             let e = &mut self.easel;
             if change.settings {
-                if let Err(err) = e.session.set_settings(self.fit.settings()) {
+                if let Err(err) = e.session.set_settings(settings) {
                     self.status.fail(err.to_string());
                 }
             }
