@@ -1,0 +1,82 @@
+//! The wide suite of issue 15 ([`Analytic::wide_suite`]) painted on the analytic sphere and
+//! judged on views nobody painted, rim and side light among them: the study that chooses
+//! factor settings (`cargo run --release --example suite`; BENCHMARKS.md, "The wide suite").
+//!
+//! Paintings are the first one or three of [`painted_views`] at 100² (about 7.9k samples
+//! each, the size of the thesis's Table 5.1). Each model is fitted with
+//! [`Mapping::Auto`] on one prepared system, and its fit is compared with the true shading
+//! function at every pixel of [`held_out`]: the relative RMS over all of them pooled, and per
+//! view, since a rim-lit view's few bright pixels weigh little in the pool.
+
+use glam::DVec3;
+
+use super::{median, relative_rms};
+use crate::brdf::{held_out_views, painted_views, Analytic, Reflectance, SphereView};
+use crate::error::Result;
+use crate::factor::{prepare, Mapping, Pattern, Settings};
+
+/// Pixels per side of a painted view.
+pub const PAINTED_RES: usize = 100;
+/// Pixels per side of a held-out view.
+pub const HELD_OUT_RES: usize = 48;
+
+/// The held-out views, named: the three of [`held_out_views`], then light from behind the
+/// object (the "rim" preset's light, 122° from the camera) and from the side (81°).
+pub fn held_out(res: usize) -> Vec<(&'static str, SphereView)> {
+    let mut out: Vec<(&'static str, SphereView)> = ["held-1", "held-2", "held-3"].into_iter().zip(held_out_views(res)).collect();
+    out.push(("rim", SphereView::new(DVec3::new(0.3, 0.5, -1.0), res)));
+    out.push(("side", SphereView::new(DVec3::new(1.0, 0.3, 0.15), res)));
+    out
+}
+
+/// One model of the study.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    pub model: String,
+    /// Relative RMS on the painted samples.
+    pub train: f64,
+    /// Relative RMS over every held-out view's pixels together.
+    pub held_out: f64,
+    /// Relative RMS per held-out view, in the order of [`held_out`].
+    pub views: Vec<f64>,
+}
+
+impl Row {
+    /// The largest per-view error and its view's name.
+    pub fn worst_view(&self) -> (&'static str, f64) {
+        let names = held_out(2);
+        self.views.iter().zip(&names).map(|(&e, (n, _))| (*n, e)).fold(("", f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a })
+    }
+}
+
+/// Fit every model from the first `painted` (1 to 3) views with `settings` and judge it.
+pub fn measure(models: &[Analytic], settings: &Settings, painted: usize) -> Result<Vec<Row>> {
+    let patterns: Vec<Pattern> = painted_views(painted, PAINTED_RES).iter().map(SphereView::pattern).collect();
+    let pattern = Pattern::concat(&patterns);
+    let prepared = prepare(&pattern, settings)?;
+    let views: Vec<Vec<crate::factor::Query>> =
+        held_out(HELD_OUT_RES).iter().map(|(_, v)| v.pixels().into_iter().map(|p| p.query).collect()).collect();
+    let mut rows = Vec::new();
+    for model in models {
+        let values = pattern.shade(|q| model.shading(q));
+        let fit = prepared.solve(&values, Mapping::Auto)?;
+        let pairs = |qs: &[crate::factor::Query]| qs.iter().map(|q| (fit.eval(settings, q), model.shading(q))).collect::<Vec<_>>();
+        let per_view: Vec<f64> = views.iter().map(|qs| relative_rms(pairs(qs))).collect();
+        let pooled = relative_rms(views.iter().flat_map(|qs| pairs(qs)));
+        rows.push(Row { model: model.name(), train: fit.errors.rms_relative, held_out: pooled, views: per_view });
+    }
+    Ok(rows)
+}
+
+/// Summary of a study: the median of the pooled held-out errors and the worst view of any
+/// model.
+pub fn summary(rows: &[Row]) -> (f64, f64) {
+    let med = median(&rows.iter().map(|r| r.held_out).collect::<Vec<_>>());
+    let worst = rows.iter().map(|r| r.worst_view().1).fold(0.0, f64::max);
+    (med, worst)
+}
+
+/// The named factor settings the study compares (the example's argument).
+pub fn candidates() -> Vec<(&'static str, Settings)> {
+    vec![("default", Settings::default())]
+}
