@@ -22,6 +22,14 @@ pub enum Input {
     View,
     /// Surface texture coordinates (the fourth factor $s(u, v)$, thesis 4.2.1).
     Uv,
+    /// The difference vector $d$ of Rusinkiewicz's half/difference coordinates (1998): $l$
+    /// seen from a frame whose pole is $h$, so $\cos\theta_d = l \cdot h$. With the radius
+    /// map a factor of $\theta_d$, which carries Fresnel and grazing terms that depend on the
+    /// angle between light and half vector rather than on $\theta_l$, $\theta_h$ or $\theta_v$.
+    Difference,
+    /// The pair $(h, d)$: with [`Param::Radii`] a 2D factor of $(\theta_h, \theta_d)$, the
+    /// isotropic BRDF's main two coordinates (Rusinkiewicz 1998, its $\phi_d$ dropped).
+    HalfDifference,
     /// A projection the caller supplies. Not storable in a material.
     Custom(CustomInput),
 }
@@ -40,6 +48,8 @@ impl Input {
             Input::Half => "half",
             Input::View => "view",
             Input::Uv => "uv",
+            Input::Difference => "difference",
+            Input::HalfDifference => "half-difference",
             Input::Custom(c) => &c.name,
         }
     }
@@ -237,6 +247,43 @@ impl Settings {
         s
     }
 
+    /// The thesis's $p(l)\,q(h)\,r(v)$ (1D) times a factor of $\theta_d$,
+    /// $s(\theta_d)$ with `res` nodes: half/difference coordinates (Rusinkiewicz 1998) for
+    /// Fresnel and grazing terms. It is damped like $r(v)$: one painting with a distant light
+    /// and camera sees a single $\theta_d$ (half the angle between them), and the damping keeps
+    /// the factor constant wherever paintings leave it free.
+    pub fn with_difference(res: usize) -> Settings {
+        let mut s = Settings::default();
+        s.factors.push(FactorSpec {
+            input: Input::Difference,
+            param: Param::Radius,
+            domain: Domain::Hemisphere,
+            res,
+            smooth: defaults::SMOOTH_1D,
+            damp: defaults::DAMP_1D,
+            ridge: 0.0,
+        });
+        s
+    }
+
+    /// $p(l)\,q(\theta_h, \theta_d)\,r(v)$: the half-vector factor replaced by a 2D table
+    /// of $(\theta_h, \theta_d)$, `res_h` × `res_h` nodes. Its smoothing is the 2D default;
+    /// the weak damping of 2D tables keeps the $\theta_d$ rows no painting reaches near
+    /// constant.
+    pub fn half_difference(res_h: usize) -> Settings {
+        let mut s = Settings::default();
+        s.factors[1] = FactorSpec {
+            input: Input::HalfDifference,
+            param: Param::Radii,
+            domain: Domain::Sphere,
+            res: res_h,
+            smooth: defaults::SMOOTH_2D,
+            damp: defaults::DAMP_2D_FREE,
+            ridge: 0.0,
+        };
+        s
+    }
+
     /// Total unknowns per channel.
     pub fn unknowns(&self) -> usize {
         self.factors.iter().map(FactorSpec::len).sum()
@@ -264,9 +311,14 @@ impl Settings {
                     )));
                 }
             }
-            let uv_ok = matches!((&f.input, f.param), (Input::Uv, Param::Uv) | (Input::Custom(_), _))
-                || !matches!(f.input, Input::Uv) && f.param != Param::Uv;
-            if !uv_ok {
+            // uv goes with uv, the (h, d) pair with two radii, and those only with each other.
+            let paired = |input: &Input, param: Param| match input {
+                Input::Uv => param == Param::Uv,
+                Input::HalfDifference => param == Param::Radii,
+                Input::Custom(_) => true,
+                _ => param != Param::Uv && param != Param::Radii,
+            };
+            if !paired(&f.input, f.param) {
                 return Err(Error::input(format!(
                     "factor {j}: input '{}' cannot use the {:?} parameterization",
                     f.input.name(),

@@ -52,6 +52,10 @@ pub fn check(material: &Material) -> Result<()> {
                 (Input::Uv, p) => {
                     return Err(Error::input(format!("{}: uv input with the {p:?} parameterization", at())));
                 }
+                (Input::HalfDifference, Param::Radii) => {}
+                (input, p) if (*input == Input::HalfDifference) != (p == Param::Radii) => {
+                    return Err(Error::input(format!("{}: {} input with the {p:?} parameterization", at(), input.name())));
+                }
                 _ => {}
             }
             if f.spec.res < 2 {
@@ -129,6 +133,8 @@ impl GpuShading {
                     Input::Half => "INPUT_HALF",
                     Input::View => "INPUT_VIEW",
                     Input::Uv => "INPUT_UV",
+                    Input::Difference => "INPUT_DIFFERENCE",
+                    Input::HalfDifference => "INPUT_HALF_DIFFERENCE",
                     Input::Custom(_) => unreachable!("rejected by check"),
                 };
                 let param = match f.spec.param {
@@ -136,6 +142,7 @@ impl GpuShading {
                     Param::Parabolic => "PARAM_PARABOLIC",
                     Param::Hemispherical => "PARAM_HEMISPHERICAL",
                     Param::Uv => "PARAM_UV",
+                    Param::Radii => "PARAM_RADII",
                 };
                 let domain = match f.spec.domain {
                     Domain::Hemisphere => "DOMAIN_HEMISPHERE",

@@ -78,5 +78,10 @@ pub fn summary(rows: &[Row]) -> (f64, f64) {
 
 /// The named factor settings the study compares (the example's argument).
 pub fn candidates() -> Vec<(&'static str, Settings)> {
-    vec![("default", Settings::default())]
+    vec![
+        ("default", Settings::default()),
+        ("theta-d", Settings::with_difference(32)),
+        ("half-difference-32", Settings::half_difference(32)),
+        ("half-difference-64", Settings::half_difference(64)),
+    ]
 }

@@ -52,6 +52,8 @@ impl TablePlots {
                                 Input::Half => "q(h)",
                                 Input::View => "r(v)",
                                 Input::Uv => "s(uv)",
+                                Input::Difference => "s(θ_d)",
+                                Input::HalfDifference => "q(θ_h, θ_d)",
                                 Input::Custom(_) => "custom",
                             };
                             let max = f.texels.iter().flat_map(|t| t.iter()).fold(0.0f32, |a, &b| a.max(b));
