@@ -1,11 +1,12 @@
 //! The wide suite of issue 15 (23 analytic models) painted on the analytic sphere from one
-//! and from three views, judged on five held-out views (rim and side light among them).
+//! and from three views (the standard three, and three that also see side and back light),
+//! judged on five held-out views (rim and side light among them).
 //!
 //! `cargo run --release --example suite [-- FACTORS]` where FACTORS names the settings:
 //! `default` (the thesis's p(l) q(h) r(v)), or one of the candidates listed by `--list`.
 
 use brdfpaint::brdf::Analytic;
-use brdfpaint::study::suite::{held_out, measure, summary};
+use brdfpaint::study::suite::{held_out, measure, paintings, summary, wide_paintings};
 
 fn main() -> brdfpaint::Result<()> {
     let name = std::env::args().nth(1).unwrap_or_else(|| "default".into());
@@ -20,24 +21,30 @@ fn main() -> brdfpaint::Result<()> {
         return Err(brdfpaint::Error::input(format!("unknown settings '{name}' (see --list)")));
     };
     let models = Analytic::wide_suite();
-    let one = measure(&models, settings, 1)?;
-    let three = measure(&models, settings, 3)?;
+    let one = measure(&models, settings, &paintings(1))?;
+    let three = measure(&models, settings, &paintings(3))?;
+    let wide = measure(&models, settings, &wide_paintings())?;
     let views: Vec<&str> = held_out(2).iter().map(|(n, _)| *n).collect();
     println!("settings '{name}': held-out relative RMS (pooled over {} views), train, and per view from 3 paintings", views.len());
-    print!("{:<22} {:>7} {:>7} {:>7} {:>7}", "model", "1 view", "3 views", "train1", "train3");
+    print!("{:<22} {:>7} {:>7} {:>7} {:>7} {:>7}", "model", "1 view", "3 views", "3 wide", "train1", "train3");
     for v in &views {
         print!(" {v:>7}");
     }
     println!();
-    for (a, b) in one.iter().zip(&three) {
-        print!("{:<22} {:>7.4} {:>7.4} {:>7.4} {:>7.4}", a.model, a.held_out, b.held_out, a.train, b.train);
+    for ((a, b), c) in one.iter().zip(&three).zip(&wide) {
+        print!("{:<22} {:>7.4} {:>7.4} {:>7.4} {:>7.4} {:>7.4}", a.model, a.held_out, b.held_out, c.held_out, a.train, b.train);
         for e in &b.views {
+            print!(" {e:>7.4}");
+        }
+        print!("  wide:");
+        for e in &c.views {
             print!(" {e:>7.4}");
         }
         println!();
     }
     let (m1, w1) = summary(&one);
     let (m3, w3) = summary(&three);
-    println!("median held-out: 1 view {m1:.4}, 3 views {m3:.4}; worst view: 1 view {w1:.3}, 3 views {w3:.3}");
+    let (mw, ww) = summary(&wide);
+    println!("median held-out: 1 view {m1:.4}, 3 views {m3:.4}, 3 wide {mw:.4}; worst view: 1 view {w1:.3}, 3 views {w3:.3}, 3 wide {ww:.3}");
     Ok(())
 }

@@ -32,7 +32,7 @@ fn random_queries(n: usize) -> Vec<Query> {
 
 #[test]
 fn material_evaluation_matches_the_fit_to_f32_precision() {
-    for settings in [Settings::default(), Settings::uniform(2, 16), Settings::four_factor(1, 32, 8)] {
+    for settings in [Settings::default(), Settings::uniform(2, 16), Settings::four_factor(1, 32, 8), Settings::with_difference(16), Settings::half_difference(12)] {
         let (material, fit) = fitted(&settings, &Analytic::suite()[1]);
         for q in random_queries(500) {
             let (a, b) = (material.shading(&q), fit.eval(&settings, &q));
@@ -49,7 +49,8 @@ fn material_evaluation_matches_the_fit_to_f32_precision() {
 #[test]
 fn save_then_load_gives_back_the_same_material() {
     let dir = tempfile::tempdir().unwrap();
-    for (k, settings) in [Settings::default(), Settings::uniform(2, 12), Settings::four_factor(1, 16, 8)].iter().enumerate() {
+    let settings = [Settings::default(), Settings::uniform(2, 12), Settings::four_factor(1, 16, 8), Settings::with_difference(16), Settings::half_difference(12)];
+    for (k, settings) in settings.iter().enumerate() {
         let (material, _) = fitted(settings, &Analytic::suite()[4]);
         let path = dir.path().join(format!("m{k}"));
         material.save(&path).unwrap();

@@ -49,9 +49,27 @@ impl Row {
     }
 }
 
-/// Fit every model from the first `painted` (1 to 3) views with `settings` and judge it.
-pub fn measure(models: &[Analytic], settings: &Settings, painted: usize) -> Result<Vec<Row>> {
-    let patterns: Vec<Pattern> = painted_views(painted, PAINTED_RES).iter().map(SphereView::pattern).collect();
+/// The standard paintings: the first `n` (1 to 3) of [`painted_views`]. Their lights are
+/// 35° to 50° from the camera, so they see $\theta_d$ between 12° and 25° only.
+pub fn paintings(n: usize) -> Vec<SphereView> {
+    painted_views(n, PAINTED_RES)
+}
+
+/// Three paintings that also see grazing light: the standard key light, then light from the
+/// side (100° from the camera) and from behind (125°), so $\theta_d$ reaches 62°. What a
+/// factor of $\theta_d$ needs to learn a Fresnel or grazing term (none of the held-out views
+/// uses these lights).
+pub fn wide_paintings() -> Vec<SphereView> {
+    vec![
+        painted_views(1, PAINTED_RES)[0],
+        SphereView::new(DVec3::new(-1.0, 0.2, -0.2), PAINTED_RES),
+        SphereView::new(DVec3::new(-0.4, -0.3, -1.0), PAINTED_RES),
+    ]
+}
+
+/// Fit every model from `painted` views with `settings` and judge it.
+pub fn measure(models: &[Analytic], settings: &Settings, painted: &[SphereView]) -> Result<Vec<Row>> {
+    let patterns: Vec<Pattern> = painted.iter().map(SphereView::pattern).collect();
     let pattern = Pattern::concat(&patterns);
     let prepared = prepare(&pattern, settings)?;
     let views: Vec<Vec<crate::factor::Query>> =
