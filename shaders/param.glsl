@@ -84,6 +84,11 @@ vec2 table_coordinate(int input_kind, int param, int domain, vec3 l, vec3 h, vec
     return planar_forward(param, d, domain);
 }
 
+// Node warp of a radius axis: the table is uniform in $s = t^{1/\gamma}$ (FactorSpec::warp).
+float warp_forward(float t, float gamma) {
+    return gamma == 1.0 ? t : pow(clamp(t, 0.0, 1.0), 1.0 / gamma);
+}
+
 // Node-based table coordinate t (node i at i/(M-1)) to a texture coordinate: node i is the
 // centre of texel i, at (i + 0.5)/M, so GL_LINEAR filtering interpolates between nodes
 // exactly as src/factor/table.rs does.

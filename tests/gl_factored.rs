@@ -90,6 +90,21 @@ fn half_difference_factors_match_the_cpu_tables() {
         ]);
 }
 
+/// Warped radius tables (FactorSpec::warp): the shader's `pow` against the CPU's, on random
+/// tables where a coordinate error shows as a jump between independent nodes.
+#[test]
+fn warped_radius_tables_match_the_cpu_tables() {
+    let warped = |mut f: Factor, warp: f64| {
+        f.spec.warp = warp;
+        f
+    };
+    assert_tables_match("warped", vec![
+            warped(random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 33), 51), 1.5),
+            warped(random_factor(spec(Input::Half, Param::Radius, Domain::Sphere, 128), 52), 3.0),
+            warped(random_factor(spec(Input::HalfDifference, Param::Radii, Domain::Sphere, 24), 53), 2.0),
+        ]);
+}
+
 #[test]
 fn two_d_factors_match_the_cpu_tables() {
     assert_tables_match("2D", vec![

@@ -16,6 +16,13 @@ use crate::error::{Error, Result};
 
 /// Table coordinate of a query for one factor.
 pub fn coordinate(spec: &FactorSpec, q: &Query) -> [f64; 2] {
+    let [x, y] = unwarped(spec, q);
+    // The node warp acts on the radius axis (Settings::validate allows it nowhere else).
+    [param::warp_forward(x, spec.warp), y]
+}
+
+/// Table coordinate before the node warp.
+fn unwarped(spec: &FactorSpec, q: &Query) -> [f64; 2] {
     let d = match &spec.input {
         Input::Light => q.l,
         Input::Half => q.h(),

@@ -101,5 +101,8 @@ pub fn candidates() -> Vec<(&'static str, Settings)> {
         ("theta-d", Settings::with_difference(32)),
         ("half-difference-32", Settings::half_difference(32)),
         ("half-difference-64", Settings::half_difference(64)),
+        ("warp-2", Settings::warped(2.0)),
+        ("warp-3", Settings::warped(3.0)),
+        ("warp-4", Settings::warped(4.0)),
     ]
 }
