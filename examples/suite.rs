@@ -6,7 +6,7 @@
 //! `default` (the thesis's p(l) q(h) r(v)), or one of the candidates listed by `--list`.
 
 use brdfpaint::brdf::Analytic;
-use brdfpaint::study::suite::{held_out, measure, paintings, summary, wide_paintings};
+use brdfpaint::study::suite::{held_out, measure, paintings, peaks, sharp_model, summary, wide_paintings};
 
 fn main() -> brdfpaint::Result<()> {
     let name = std::env::args().nth(1).unwrap_or_else(|| "default".into());
@@ -45,6 +45,14 @@ fn main() -> brdfpaint::Result<()> {
     let (m1, w1) = summary(&one);
     let (m3, w3) = summary(&three);
     let (mw, ww) = summary(&wide);
+    let sharp = sharp_model();
+    for (label, painted) in [("1 view", paintings(1)), ("3 views", paintings(3))] {
+        print!("{} peak from {label}, fitted/true per held-out view:", sharp.name());
+        for (view, fitted, truth) in peaks(&sharp, settings, &painted)? {
+            print!(" {view} {:.3}", fitted / truth);
+        }
+        println!();
+    }
     println!("median held-out: 1 view {m1:.4}, 3 views {m3:.4}, 3 wide {mw:.4}; worst view: 1 view {w1:.3}, 3 views {w3:.3}, 3 wide {ww:.3}");
     Ok(())
 }

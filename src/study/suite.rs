@@ -86,6 +86,37 @@ pub fn measure(models: &[Analytic], settings: &Settings, painted: &[SphereView])
     Ok(rows)
 }
 
+/// The sharp case of issue 15: GGX with $\alpha = 0.05$, a highlight about 2° wide in
+/// $\theta_h$.
+pub fn sharp_model() -> Analytic {
+    Analytic::ggx_alpha([0.40, 0.25, 0.12], [0.50, 0.42, 0.35], 0.05)
+}
+
+/// Pixels per side of the held-out views that judge a highlight's peak: fine enough that
+/// the 2° highlight of [`sharp_model`] covers several pixels.
+pub const PEAK_RES: usize = 160;
+
+/// The highlight's peak on each held-out view of [`held_out`] (at [`PEAK_RES`]): the
+/// largest fitted and true value of $S$ (the sum of its channels) over the view's pixels,
+/// as (view, fitted, true). The fit is from `painted` views with `settings`.
+pub fn peaks(model: &Analytic, settings: &Settings, painted: &[SphereView]) -> Result<Vec<(&'static str, f64, f64)>> {
+    let pattern = Pattern::concat(&painted.iter().map(SphereView::pattern).collect::<Vec<_>>());
+    let values = pattern.shade(|q| model.shading(q));
+    let fit = prepare(&pattern, settings)?.solve(&values, Mapping::Auto)?;
+    let sum = |x: [f64; 3]| x[0] + x[1] + x[2];
+    Ok(held_out(PEAK_RES)
+        .into_iter()
+        .map(|(name, view)| {
+            let (mut fitted, mut truth) = (0.0f64, 0.0f64);
+            for p in view.pixels() {
+                fitted = fitted.max(sum(fit.eval(settings, &p.query)));
+                truth = truth.max(sum(model.shading(&p.query)));
+            }
+            (name, fitted, truth)
+        })
+        .collect())
+}
+
 /// Summary of a study: the median of the pooled held-out errors and the worst view of any
 /// model.
 pub fn summary(rows: &[Row]) -> (f64, f64) {
@@ -98,6 +129,7 @@ pub fn summary(rows: &[Row]) -> (f64, f64) {
 pub fn candidates() -> Vec<(&'static str, Settings)> {
     vec![
         ("default", Settings::default()),
+        ("unwarped", Settings::warped(1.0)),
         ("theta-d", Settings::with_difference(32)),
         ("half-difference-32", Settings::half_difference(32)),
         ("half-difference-64", Settings::half_difference(64)),
