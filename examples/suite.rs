@@ -45,6 +45,22 @@ fn main() -> brdfpaint::Result<()> {
     let (m1, w1) = summary(&one);
     let (m3, w3) = summary(&three);
     let (mw, ww) = summary(&wide);
+    // Speed of one refit on one painting (~7.9k samples), as `brdfpaint bench` times it: log
+    // mapping, scatter, solve, linear tables, one mapping.
+    let pattern = paintings(1)[0].pattern();
+    let prepared = brdfpaint::factor::prepare(&pattern, settings)?;
+    let values = pattern.shade(|q| brdfpaint::brdf::Reflectance::shading(&models[4], q));
+    let map = brdfpaint::factor::LogMap::Identity { floor: [1e-4; 3] };
+    let solve_s = brdfpaint::study::bench::median_time(200, 1.0, || {
+        std::hint::black_box(prepared.solve_tables(&values, &map).expect("solve"));
+    });
+    println!(
+        "one painting: {} samples, {} unknowns, prepare {:.2} ms, solve {:.3} ms (median)",
+        prepared.samples(),
+        prepared.unknowns(),
+        prepared.prepare_s * 1e3,
+        solve_s * 1e3
+    );
     let sharp = sharp_model();
     for (label, painted) in [("1 view", paintings(1)), ("3 views", paintings(3))] {
         print!("{} peak from {label}, fitted/true per held-out view:", sharp.name());

@@ -21,7 +21,7 @@ pub const PAINTED_RES: usize = 100;
 pub const HELD_OUT_RES: usize = 48;
 
 /// The held-out views, named: the three of [`held_out_views`], then light from behind the
-/// object (the "rim" preset's light, 122° from the camera) and from the side (81°).
+/// object (the "rim" preset's light, 150° from the camera) and from the side (82°).
 pub fn held_out(res: usize) -> Vec<(&'static str, SphereView)> {
     let mut out: Vec<(&'static str, SphereView)> = ["held-1", "held-2", "held-3"].into_iter().zip(held_out_views(res)).collect();
     out.push(("rim", SphereView::new(DVec3::new(0.3, 0.5, -1.0), res)));
@@ -50,13 +50,14 @@ impl Row {
 }
 
 /// The standard paintings: the first `n` (1 to 3) of [`painted_views`]. Their lights are
-/// 35° to 50° from the camera, so they see $\theta_d$ between 12° and 25° only.
+/// 35°, 44° and 57° from the camera; with a distant light and camera each painting shows one
+/// $\theta_d$, half that angle (18°, 22°, 28°).
 pub fn paintings(n: usize) -> Vec<SphereView> {
     painted_views(n, PAINTED_RES)
 }
 
 /// Three paintings that also see grazing light: the standard key light, then light from the
-/// side (100° from the camera) and from behind (125°), so $\theta_d$ reaches 62°. What a
+/// side (101° from the camera) and from behind (153°), so $\theta_d$ reaches 77°. What a
 /// factor of $\theta_d$ needs to learn a Fresnel or grazing term (none of the held-out views
 /// uses these lights).
 pub fn wide_paintings() -> Vec<SphereView> {
