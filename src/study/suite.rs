@@ -70,19 +70,31 @@ pub fn wide_paintings() -> Vec<SphereView> {
 
 /// Fit every model from `painted` views with `settings` and judge it.
 pub fn measure(models: &[Analytic], settings: &Settings, painted: &[SphereView]) -> Result<Vec<Row>> {
-    let patterns: Vec<Pattern> = painted.iter().map(SphereView::pattern).collect();
-    let pattern = Pattern::concat(&patterns);
-    let prepared = prepare(&pattern, settings)?;
+    let pattern = Pattern::concat(&painted.iter().map(SphereView::pattern).collect::<Vec<_>>());
+    let named: Vec<(String, &dyn Reflectance)> = models.iter().map(|m| (m.name(), m as &dyn Reflectance)).collect();
+    measure_on(&pattern, &named, settings)
+}
+
+/// MERL-style dense sampling: the (light, view) grid of `fit --merl` at density `k`
+/// ([`crate::brdf::merl_grid`], $2k^3$ pairs; 16 gives about 8k).
+pub fn dense(k: usize) -> Result<Pattern> {
+    Ok(Pattern::new(crate::brdf::merl_grid(k)?.into_iter().map(|(l, v)| crate::factor::Query::at(l, v)).collect(), false))
+}
+
+/// Fit every named reflectance from its values on `pattern` with `settings`, and judge it on
+/// [`held_out`].
+pub fn measure_on(pattern: &Pattern, models: &[(String, &dyn Reflectance)], settings: &Settings) -> Result<Vec<Row>> {
+    let prepared = prepare(pattern, settings)?;
     let views: Vec<Vec<crate::factor::Query>> =
         held_out(HELD_OUT_RES).iter().map(|(_, v)| v.pixels().into_iter().map(|p| p.query).collect()).collect();
     let mut rows = Vec::new();
-    for model in models {
+    for (name, model) in models {
         let values = pattern.shade(|q| model.shading(q));
         let fit = prepared.solve(&values, Mapping::Auto)?;
         let pairs = |qs: &[crate::factor::Query]| qs.iter().map(|q| (fit.eval(settings, q), model.shading(q))).collect::<Vec<_>>();
         let per_view: Vec<f64> = views.iter().map(|qs| relative_rms(pairs(qs))).collect();
         let pooled = relative_rms(views.iter().flat_map(|qs| pairs(qs)));
-        rows.push(Row { model: model.name(), train: fit.errors.rms_relative, held_out: pooled, views: per_view });
+        rows.push(Row { model: name.clone(), train: fit.errors.rms_relative, held_out: pooled, views: per_view });
     }
     Ok(rows)
 }
