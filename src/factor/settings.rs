@@ -127,6 +127,23 @@ fn is_no_warp(w: &f64) -> bool {
 pub const MAX_WARP: f64 = 8.0;
 
 impl FactorSpec {
+    /// A factor of $\theta_d$ with `res` nodes (half/difference coordinates, Rusinkiewicz
+    /// 1998): the radius map of the difference vector. It is damped like $r(v)$: one painting
+    /// with a distant light and camera sees a single $\theta_d$ (half the angle between
+    /// them), and the damping keeps the factor constant wherever paintings leave it free.
+    pub fn difference(res: usize) -> FactorSpec {
+        FactorSpec {
+            input: Input::Difference,
+            param: Param::Radius,
+            domain: Domain::Hemisphere,
+            res,
+            smooth: defaults::SMOOTH_1D,
+            damp: defaults::DAMP_1D,
+            ridge: 0.0,
+            warp: 1.0,
+        }
+    }
+
     /// Table dimension (1 or 2).
     pub fn dim(&self) -> usize {
         self.param.dim()
@@ -204,6 +221,9 @@ pub mod defaults {
     pub const DAMP_2D_FREE: f64 = 1e-7;
     /// Ridge of the uv factor.
     pub const RIDGE_UV: f64 = 1e-2;
+    /// Nodes of a factor of $\theta_d$ (`fit --theta-d`): $\theta_d$ spans at most 90°, and
+    /// paintings show few of its values.
+    pub const RES_DIFFERENCE: usize = 32;
     /// Node warp of the 1D half-vector factor $q(h)$ ([`super::FactorSpec::warp`]): its nodes
     /// are uniform in $\tan(\theta_h/2)^{1/3}$. On the wide suite (`cargo run --release
     /// --example suite`, BENCHMARKS.md "The wide suite") against the unwarped table: median
@@ -284,23 +304,12 @@ impl Settings {
         s
     }
 
-    /// The thesis's $p(l)\,q(h)\,r(v)$ (1D) times a factor of $\theta_d$,
-    /// $s(\theta_d)$ with `res` nodes: half/difference coordinates (Rusinkiewicz 1998) for
-    /// Fresnel and grazing terms. It is damped like $r(v)$: one painting with a distant light
-    /// and camera sees a single $\theta_d$ (half the angle between them), and the damping keeps
-    /// the factor constant wherever paintings leave it free.
+    /// The default $p(l)\,q(h)\,r(v)$ times a factor of $\theta_d$, $s(\theta_d)$ with `res`
+    /// nodes ([`FactorSpec::difference`]): half/difference coordinates (Rusinkiewicz 1998)
+    /// for Fresnel and grazing terms.
     pub fn with_difference(res: usize) -> Settings {
         let mut s = Settings::default();
-        s.factors.push(FactorSpec {
-            input: Input::Difference,
-            param: Param::Radius,
-            domain: Domain::Hemisphere,
-            res,
-            smooth: defaults::SMOOTH_1D,
-            damp: defaults::DAMP_1D,
-            ridge: 0.0,
-            warp: 1.0,
-        });
+        s.factors.push(FactorSpec::difference(res));
         s
     }
 
