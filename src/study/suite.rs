@@ -146,6 +146,11 @@ pub fn candidates() -> Vec<(&'static str, Settings)> {
         ("theta-d", Settings::with_difference(32)),
         ("half-difference-32", Settings::half_difference(32)),
         ("half-difference-64", Settings::half_difference(64)),
+        ("half-difference-32-warped", {
+            let mut s = Settings::half_difference(32);
+            s.factors[1].warp = crate::factor::defaults::WARP_HALF;
+            s
+        }),
         ("warp-2", Settings::warped(2.0)),
         ("warp-3", Settings::warped(3.0)),
         ("warp-4", Settings::warped(4.0)),
