@@ -6,7 +6,8 @@
 // Compile-time layout (prepended #defines, see src/render/shading.rs):
 //   NUM_FACTORS 0..6; F<k>_INPUT, F<k>_PARAM, F<k>_DOMAIN per factor and MAP_KIND name
 //   param.glsl's codes (INPUT_LIGHT, PARAM_RADIUS, DOMAIN_SPHERE, MAP_OFFSET, ...), the one
-//   place they are defined; F<k>_DIM 1 or 2; HAS_COEF 0 or 1.
+//   place they are defined; F<k>_DIM 1 or 2; F<k>_WARP the node warp of a radius axis (a
+//   float literal, 1.0 for none); HAS_COEF 0 or 1.
 // Uniforms: u_factor<k> (sampler), u_res<k> (nodes per axis), u_map_a (per-channel a),
 //   u_coef (sampler) and u_coef_size (texels per axis).
 
@@ -28,8 +29,9 @@ uniform vec2 u_coef_size;
 
 layout(location = 0) out vec4 o_color;
 
-vec3 factor(sampler2D tex, int input_kind, int param, int domain, int dim, float m, Surface s) {
+vec3 factor(sampler2D tex, int input_kind, int param, int domain, int dim, float warp, float m, Surface s) {
     vec2 t = table_coordinate(input_kind, param, domain, s.l, s.h, s.v, s.uv);
+    t.x = warp_forward(t.x, warp);
     // 1D tables are M x 1 textures (GLES has no 1D textures): sample the row's centre.
     vec2 size = dim == 1 ? vec2(m, 1.0) : vec2(m);
     vec2 tc = node_to_texel(t, size);
@@ -41,22 +43,22 @@ void main() {
     Surface s = surface();
     vec3 prod = vec3(1.0);
 #if NUM_FACTORS > 0
-    prod *= factor(u_factor0, F0_INPUT, F0_PARAM, F0_DOMAIN, F0_DIM, u_res0, s);
+    prod *= factor(u_factor0, F0_INPUT, F0_PARAM, F0_DOMAIN, F0_DIM, F0_WARP, u_res0, s);
 #endif
 #if NUM_FACTORS > 1
-    prod *= factor(u_factor1, F1_INPUT, F1_PARAM, F1_DOMAIN, F1_DIM, u_res1, s);
+    prod *= factor(u_factor1, F1_INPUT, F1_PARAM, F1_DOMAIN, F1_DIM, F1_WARP, u_res1, s);
 #endif
 #if NUM_FACTORS > 2
-    prod *= factor(u_factor2, F2_INPUT, F2_PARAM, F2_DOMAIN, F2_DIM, u_res2, s);
+    prod *= factor(u_factor2, F2_INPUT, F2_PARAM, F2_DOMAIN, F2_DIM, F2_WARP, u_res2, s);
 #endif
 #if NUM_FACTORS > 3
-    prod *= factor(u_factor3, F3_INPUT, F3_PARAM, F3_DOMAIN, F3_DIM, u_res3, s);
+    prod *= factor(u_factor3, F3_INPUT, F3_PARAM, F3_DOMAIN, F3_DIM, F3_WARP, u_res3, s);
 #endif
 #if NUM_FACTORS > 4
-    prod *= factor(u_factor4, F4_INPUT, F4_PARAM, F4_DOMAIN, F4_DIM, u_res4, s);
+    prod *= factor(u_factor4, F4_INPUT, F4_PARAM, F4_DOMAIN, F4_DIM, F4_WARP, u_res4, s);
 #endif
 #if NUM_FACTORS > 5
-    prod *= factor(u_factor5, F5_INPUT, F5_PARAM, F5_DOMAIN, F5_DIM, u_res5, s);
+    prod *= factor(u_factor5, F5_INPUT, F5_PARAM, F5_DOMAIN, F5_DIM, F5_WARP, u_res5, s);
 #endif
 
     // Inverse of the log mapping (thesis eq. 3.14, 3.16), clamped at zero.

@@ -6,11 +6,14 @@
 #define INPUT_HALF 1
 #define INPUT_VIEW 2
 #define INPUT_UV 3
+#define INPUT_DIFFERENCE 4
+#define INPUT_HALF_DIFFERENCE 5
 
 #define PARAM_RADIUS 0
 #define PARAM_PARABOLIC 1
 #define PARAM_HEMISPHERICAL 2
 #define PARAM_UV 3
+#define PARAM_RADII 4
 
 #define DOMAIN_HEMISPHERE 0
 #define DOMAIN_SPHERE 1
@@ -59,13 +62,31 @@ vec2 planar_forward(int param, vec3 d, int domain) {
     return (az * r * scale + 1.0) * 0.5;
 }
 
+// Rusinkiewicz's difference vector: l in the frame whose pole is h,
+// $d = R_y(-\theta_h) R_z(-\phi_h)\, l$, so $d_z = l \cdot h = \cos\theta_d$.
+vec3 difference(vec3 l, vec3 h) {
+    float sh = length(h.xy);
+    // $\phi_h$ is undefined at the pole, where any choice is equivalent.
+    vec2 cs = sh > 1e-12 ? h.xy / sh : vec2(1.0, 0.0);
+    vec3 l1 = vec3(cs.x * l.x + cs.y * l.y, -cs.y * l.x + cs.x * l.y, l.z);
+    return vec3(h.z * l1.x - sh * l1.z, l1.y, sh * l1.x + h.z * l1.z);
+}
+
 // Table coordinate of one factor's input.
 vec2 table_coordinate(int input_kind, int param, int domain, vec3 l, vec3 h, vec3 v, vec2 uv) {
     if (input_kind == INPUT_UV) return clamp(uv, 0.0, 1.0);
-    vec3 d = input_kind == INPUT_LIGHT ? l : (input_kind == INPUT_HALF ? h : v);
+    // $(\theta_h, \theta_d)$ through the radius map; $\theta_d \le \pi/2$ always.
+    if (input_kind == INPUT_HALF_DIFFERENCE)
+        return vec2(radius_forward(h, domain), radius_forward(difference(l, h), DOMAIN_HEMISPHERE));
+    vec3 d = input_kind == INPUT_LIGHT ? l : (input_kind == INPUT_HALF ? h : (input_kind == INPUT_VIEW ? v : difference(l, h)));
     if (param == PARAM_RADIUS) return vec2(radius_forward(d, domain), 0.0);
     if (param == PARAM_UV) return clamp(d.xy, 0.0, 1.0);
     return planar_forward(param, d, domain);
+}
+
+// Node warp of a radius axis: the table is uniform in $s = t^{1/\gamma}$ (FactorSpec::warp).
+float warp_forward(float t, float gamma) {
+    return gamma == 1.0 ? t : pow(clamp(t, 0.0, 1.0), 1.0 / gamma);
 }
 
 // Node-based table coordinate t (node i at i/(M-1)) to a texture coordinate: node i is the

@@ -25,6 +25,7 @@ fn custom(name: &str, param: Param, res: usize, project: fn(&Query) -> [f64; 2])
         smooth: 0.0,
         damp: 0.0,
         ridge: 0.0,
+        warp: 1.0,
     }
 }
 
@@ -126,6 +127,53 @@ fn exact_products_with_a_uv_factor_are_recovered_to_machine_precision() {
         light_prior: None,
     };
     assert_exact_recovery(&settings, &queries(6000, 5), 6);
+}
+
+/// Random light directions on the sphere and view directions above the horizon (unit).
+fn directions(n: usize, seed: u64) -> Pattern {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut dir = |zmin: f64| {
+        let z: f64 = rng.random_range(zmin..1.0);
+        let p: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+        let r = (1.0 - z * z).sqrt();
+        DVec3::new(r * p.cos(), r * p.sin(), z)
+    };
+    Pattern::new((0..n).map(|_| Query::at(dir(-1.0), dir(0.0))).collect(), false)
+}
+
+/// Products with half/difference factors (Rusinkiewicz 1998), $p(l)\,s(\theta_d)\,r(v)$ and
+/// $p(l)\,q(\theta_h, \theta_d)\,r(v)$ from random tables, are recovered exactly from samples
+/// that span every $(l, v)$, at new directions of the same kind.
+#[test]
+fn exact_products_with_half_difference_factors_are_recovered() {
+    let f = |input, param, domain, res| FactorSpec { input, param, domain, res, smooth: 0.0, damp: 0.0, ridge: 0.0, warp: 1.0 };
+    for (k, middle) in [
+        f(Input::Difference, Param::Radius, Domain::Hemisphere, 9),
+        f(Input::HalfDifference, Param::Radii, Domain::Hemisphere, 6),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let settings = Settings {
+            factors: vec![
+                f(Input::Light, Param::Radius, Domain::Sphere, 11),
+                middle,
+                f(Input::View, Param::Radius, Domain::Hemisphere, 7),
+            ],
+            method: Method::Cholesky,
+        };
+        let truth = random_tables(&settings, 30 + k as u64);
+        let pattern = directions(20_000, 40 + k as u64);
+        let values: Vec<[f64; 3]> = pattern.queries.iter().map(|q| log_product(&settings, &truth, q).map(f64::exp)).collect();
+        let fit = prepare(&pattern, &settings).unwrap().solve(&values, Mapping::Identity).unwrap();
+        let logs = log_tables(&fit.tables);
+        let mut worst = 0.0f64;
+        for q in &directions(2000, 50 + k as u64).queries {
+            let (a, b) = (log_product(&settings, &logs, q), log_product(&settings, &truth, q));
+            worst = (0..3).map(|c| (a[c] - b[c]).abs()).fold(worst, f64::max);
+        }
+        assert!(worst < 1e-7, "{:?}: worst log-space error {worst:e}", settings.factors[1].input);
+    }
 }
 
 /// Max relative error of fitting $e^{\sin 3x}(1 + y^2)$ with two 1D factors of `res` nodes.

@@ -63,3 +63,24 @@ fn two_dimensional_factors_generalize_from_three_views() {
     let errors = suite_errors_with(3, &Settings::uniform(2, brdfpaint::factor::defaults::RES_2D));
     assert!(median(&errors) < 0.08, "{errors:?}");
 }
+
+/// Issue 15's sharp case: GGX with α = 0.05 (a highlight about 2° wide) fitted from the
+/// three standard paintings with the default settings. On the three held-out views that see
+/// the highlight near the normal, the fitted peak must be within 15% of the true one
+/// (measured 1.049, 0.956, 0.929; BENCHMARKS.md, "The wide suite"). The thesis's unwarped
+/// q(h) puts the 2° on one node and misses held-1 by 31% (asserted below, so this test
+/// tells the two tables apart). The rim and side views' grazing highlights are out of reach
+/// of any table the paintings determine (0.2 and 0.8 of the truth) and are not judged.
+#[test]
+fn a_sharp_highlight_peaks_within_15_percent_on_held_out_views() {
+    use brdfpaint::study::suite::{paintings, peaks, sharp_model};
+    let model = sharp_model();
+    let ratios = |settings: &Settings| -> Vec<(&'static str, f64)> {
+        peaks(&model, settings, &paintings(3)).unwrap().into_iter().take(3).map(|(v, fit, truth)| (v, fit / truth)).collect()
+    };
+    for (view, r) in ratios(&Settings::default()) {
+        assert!((r - 1.0).abs() <= 0.15, "{view}: fitted peak / true peak = {r:.3}");
+    }
+    let unwarped = ratios(&Settings::warped(1.0));
+    assert!(unwarped.iter().any(|(_, r)| (r - 1.0).abs() > 0.15), "{unwarped:?}");
+}

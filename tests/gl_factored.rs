@@ -74,6 +74,37 @@ fn one_d_factors_match_the_cpu_tables_in_both_domains() {
         ]);
 }
 
+/// The half/difference factors (Rusinkiewicz 1998): a factor of $\theta_d$ and a 2D table of
+/// $(\theta_h, \theta_d)$, beside a light factor, in every scene (back light and grazing views
+/// included, where $\theta_d$ approaches 90°).
+#[test]
+fn half_difference_factors_match_the_cpu_tables() {
+    assert_tables_match("half/difference", vec![
+            random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 33), 41),
+            random_factor(spec(Input::Difference, Param::Radius, Domain::Hemisphere, 29), 42),
+            random_factor(spec(Input::HalfDifference, Param::Radii, Domain::Sphere, 24), 43),
+        ]);
+    assert_tables_match("half/difference, hemisphere", vec![
+            random_factor(spec(Input::HalfDifference, Param::Radii, Domain::Hemisphere, 17), 44),
+            random_factor(spec(Input::View, Param::Radius, Domain::Hemisphere, 9), 45),
+        ]);
+}
+
+/// Warped radius tables (FactorSpec::warp): the shader's `pow` against the CPU's, on random
+/// tables where a coordinate error shows as a jump between independent nodes.
+#[test]
+fn warped_radius_tables_match_the_cpu_tables() {
+    let warped = |mut f: Factor, warp: f64| {
+        f.spec.warp = warp;
+        f
+    };
+    assert_tables_match("warped", vec![
+            warped(random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 33), 51), 1.5),
+            warped(random_factor(spec(Input::Half, Param::Radius, Domain::Sphere, 128), 52), 3.0),
+            warped(random_factor(spec(Input::HalfDifference, Param::Radii, Domain::Sphere, 24), 53), 2.0),
+        ]);
+}
+
 #[test]
 fn two_d_factors_match_the_cpu_tables() {
     assert_tables_match("2D", vec![

@@ -32,7 +32,7 @@ fn random_queries(n: usize) -> Vec<Query> {
 
 #[test]
 fn material_evaluation_matches_the_fit_to_f32_precision() {
-    for settings in [Settings::default(), Settings::uniform(2, 16), Settings::four_factor(1, 32, 8)] {
+    for settings in [Settings::default(), Settings::uniform(2, 16), Settings::four_factor(1, 32, 8), Settings::with_difference(16), Settings::half_difference(12)] {
         let (material, fit) = fitted(&settings, &Analytic::suite()[1]);
         for q in random_queries(500) {
             let (a, b) = (material.shading(&q), fit.eval(&settings, &q));
@@ -49,7 +49,8 @@ fn material_evaluation_matches_the_fit_to_f32_precision() {
 #[test]
 fn save_then_load_gives_back_the_same_material() {
     let dir = tempfile::tempdir().unwrap();
-    for (k, settings) in [Settings::default(), Settings::uniform(2, 12), Settings::four_factor(1, 16, 8)].iter().enumerate() {
+    let settings = [Settings::default(), Settings::uniform(2, 12), Settings::four_factor(1, 16, 8), Settings::with_difference(16), Settings::half_difference(12)];
+    for (k, settings) in settings.iter().enumerate() {
         let (material, _) = fitted(settings, &Analytic::suite()[4]);
         let path = dir.path().join(format!("m{k}"));
         material.save(&path).unwrap();
@@ -67,6 +68,47 @@ fn edit_json(dir: &Path, f: impl Fn(&mut serde_json::Value)) {
     std::fs::write(&p, serde_json::to_string(&v).unwrap()).unwrap();
 }
 
+/// A version 1 material written by the tool before version 2 (tests/data/material-v1:
+/// blinn-phong-32 fitted from one view with the default settings) still loads, reads as
+/// unwarped tables, evaluates like a fresh fit of the same samples, and is saved again as
+/// version 2.
+#[test]
+fn version_1_materials_still_load() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/material-v1");
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(dir.join("material.json")).unwrap()).unwrap();
+    assert_eq!(json["version"], 1, "the fixture must stay a version 1 file");
+    let old = Material::load(&dir).unwrap();
+    assert!(old.terms[0].factors.iter().all(|f| f.spec.warp == 1.0));
+    // The fixture came from these very samples and the version 1 default settings (an
+    // unwarped half-vector table): the same tables up to f32.
+    let (fresh, _) = fitted(&Settings::warped(1.0), &Analytic::suite()[2]);
+    for q in random_queries(300) {
+        let (a, b) = (old.shading(&q), fresh.shading(&q));
+        for c in 0..3 {
+            assert!((a[c] - b[c]).abs() <= 1e-5 * (1.0 + b[c].abs()), "{a:?} vs {b:?} at {q:?}");
+        }
+    }
+    let out = tempfile::tempdir().unwrap();
+    old.save(out.path()).unwrap();
+    let again: serde_json::Value = serde_json::from_slice(&std::fs::read(out.path().join("material.json")).unwrap()).unwrap();
+    assert_eq!(again["version"], brdfpaint::material::VERSION);
+    assert!(Material::load(out.path()).unwrap().terms == old.terms);
+}
+
+/// A warped half-vector table and the half/difference factors survive a save and load, and
+/// the warp is written only where it is not 1.
+#[test]
+fn warped_tables_round_trip() {
+    let (material, _) = fitted(&Settings::warped(3.0), &Analytic::suite()[3]);
+    let dir = tempfile::tempdir().unwrap();
+    material.save(dir.path()).unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(dir.path().join("material.json")).unwrap()).unwrap();
+    let factors = &json["terms"][0]["factors"];
+    assert_eq!(factors[1]["warp"], 3.0);
+    assert!(factors[0].get("warp").is_none() && factors[2].get("warp").is_none(), "{factors}");
+    assert!(Material::load(dir.path()).unwrap() == material);
+}
+
 #[test]
 fn bad_material_files_are_one_line_errors() {
     let root = tempfile::tempdir().unwrap();
@@ -82,8 +124,8 @@ fn bad_material_files_are_one_line_errors() {
         e
     };
     let d = fresh("version");
-    edit_json(&d, |v| v["version"] = 2.into());
-    assert!(err(&d).contains("version 2"));
+    edit_json(&d, |v| v["version"] = 3.into());
+    assert!(err(&d).contains("version 3"));
     let d = fresh("format");
     edit_json(&d, |v| v["format"] = "something-else".into());
     assert!(err(&d).contains("not a brdfpaint material"));

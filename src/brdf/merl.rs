@@ -151,24 +151,10 @@ impl Merl {
     /// missing measurements. Each pair is turned about the normal by a golden-angle step so
     /// that 2D factors see every azimuth. `k` = 16 gives about the thesis's 7.9k samples.
     pub fn samples(&self, k: usize) -> Result<Vec<Sample>> {
-        if !(2..=256).contains(&k) {
-            return Err(Error::input(format!("MERL sampling density {k} is outside 2..=256")));
-        }
-        let golden = PI * (3.0 - 5f64.sqrt());
         let mut out = Vec::with_capacity(2 * k * k * k);
-        let polar = |i: usize| (i as f64 + 0.5) / k as f64 * FRAC_PI_2;
-        for il in 0..k {
-            for iv in 0..k {
-                for ip in 0..2 * k {
-                    let phi = (ip as f64 + 0.5) / (2 * k) as f64 * PI;
-                    let (tl, tv) = (polar(il), polar(iv));
-                    let turn = golden * out.len() as f64;
-                    let l = DVec3::new(tl.sin() * turn.cos(), tl.sin() * turn.sin(), tl.cos());
-                    let v = DVec3::new(tv.sin() * (turn + phi).cos(), tv.sin() * (turn + phi).sin(), tv.cos());
-                    if let Some(f) = self.brdf(l, v) {
-                        out.push(Sample { l, v, uv: None, value: f.map(|x| x * l.z) });
-                    }
-                }
+        for (l, v) in grid(k)? {
+            if let Some(f) = self.brdf(l, v) {
+                out.push(Sample { l, v, uv: None, value: f.map(|x| x * l.z) });
             }
         }
         if out.is_empty() {
@@ -176,6 +162,31 @@ impl Merl {
         }
         Ok(out)
     }
+}
+
+/// The (light, view) pairs of [`Merl::samples`]: `k` polar angles each, `2k` relative
+/// azimuths over $[0, \pi]$, each pair turned about the normal by a golden-angle step. Any
+/// reflectance sampled on it is "MERL-style dense sampling".
+pub fn grid(k: usize) -> Result<Vec<(DVec3, DVec3)>> {
+    if !(2..=256).contains(&k) {
+        return Err(Error::input(format!("MERL sampling density {k} is outside 2..=256")));
+    }
+    let golden = PI * (3.0 - 5f64.sqrt());
+    let mut out = Vec::with_capacity(2 * k * k * k);
+    let polar = |i: usize| (i as f64 + 0.5) / k as f64 * FRAC_PI_2;
+    for il in 0..k {
+        for iv in 0..k {
+            for ip in 0..2 * k {
+                let phi = (ip as f64 + 0.5) / (2 * k) as f64 * PI;
+                let (tl, tv) = (polar(il), polar(iv));
+                let turn = golden * out.len() as f64;
+                let l = DVec3::new(tl.sin() * turn.cos(), tl.sin() * turn.sin(), tl.cos());
+                let v = DVec3::new(tv.sin() * (turn + phi).cos(), tv.sin() * (turn + phi).sin(), tv.cos());
+                out.push((l, v));
+            }
+        }
+    }
+    Ok(out)
 }
 
 impl super::Reflectance for Merl {

@@ -10,7 +10,7 @@ mod striped;
 
 pub use analytic::Analytic;
 pub use fits::{fresnel_dielectric, Abc};
-pub use merl::Merl;
+pub use merl::{grid as merl_grid, Merl};
 pub use sphere::{held_out_views, painted_views, SpherePixel, SphereView};
 pub use striped::Striped;
 

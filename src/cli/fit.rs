@@ -10,7 +10,7 @@ use super::Failure;
 use brdfpaint::brdf::Merl;
 use brdfpaint::error::{Error, Result};
 use brdfpaint::factor::cache::{Cache, Outcome};
-use brdfpaint::factor::{prepare, Fit, Mapping, Pattern, Settings};
+use brdfpaint::factor::{defaults, prepare, FactorSpec, Fit, Mapping, Pattern, Settings};
 use brdfpaint::litsphere;
 use brdfpaint::material::{map, Kind, Material};
 use brdfpaint::pipeline::{self, Options};
@@ -86,6 +86,11 @@ pub(super) struct FitArgs {
     /// Table resolution per axis (default: 128 for 1D, 32 for 2D).
     #[arg(long)]
     res: Option<usize>,
+    /// Add a factor of θ_d, the angle between the light and the half vector (half/difference
+    /// coordinates), for Fresnel and grazing terms: worth it for paintings under side or back
+    /// light, which show θ_d far from half the light-camera angle of a front-lit painting.
+    #[arg(long)]
+    theta_d: bool,
     /// Resolution of the uv factor (four-factor, hybrid; default 32), or of the coefficient
     /// textures (material-map; default 256).
     #[arg(long)]
@@ -153,6 +158,12 @@ fn options(args: &FitArgs) -> Result<Options> {
         return Err(Error::input("--map-fit applies to the material-map and hybrid kinds"));
     }
     let mut opts = Options::new(args.kind.kind(), args.factors.dim(), args.res, args.lambda, args.uv_res)?;
+    if args.theta_d {
+        let mut f = FactorSpec::difference(defaults::RES_DIFFERENCE);
+        f.smooth = args.lambda.unwrap_or(f.smooth);
+        opts.settings.factors.push(f);
+        opts.settings.validate()?;
+    }
     opts.mapping = args.mapping;
     opts.map.terms = args.terms.unwrap_or(opts.map.terms);
     opts.map.method = match args.map_fit {

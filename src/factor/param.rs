@@ -37,6 +37,9 @@ pub enum Param {
     Hemispherical,
     /// 2D: surface texture coordinates $(u, v)$, clamped to $[0, 1]^2$.
     Uv,
+    /// 2D: the radius map of two directions, one per axis: $(|\pi(h)|, |\pi(d)|)$ for the
+    /// half/difference pair, so the table is a function of $(\theta_h, \theta_d)$.
+    Radii,
 }
 
 impl Param {
@@ -44,7 +47,7 @@ impl Param {
     pub fn dim(self) -> usize {
         match self {
             Param::Radius => 1,
-            Param::Parabolic | Param::Hemispherical | Param::Uv => 2,
+            Param::Parabolic | Param::Hemispherical | Param::Uv | Param::Radii => 2,
         }
     }
 }
@@ -94,6 +97,34 @@ pub fn radius_inverse(t: f64, domain: Domain) -> f64 {
         Domain::Hemisphere => rho_to_theta(t.clamp(0.0, 1.0)),
         Domain::Sphere => rho_to_theta(t.clamp(0.0, 1.0) * 2.0),
     }
+}
+
+/// Rusinkiewicz's difference vector (1998): $l$ in the frame whose pole is $h$, reached by
+/// rotating $h$ onto the normal, $d = R_y(-\theta_h) R_z(-\phi_h)\, l$. Its polar angle is
+/// $\theta_d$, the angle between $l$ and $h$ ($d_z = l \cdot h$).
+pub fn difference(l: DVec3, h: DVec3) -> DVec3 {
+    let sin_h = h.x.hypot(h.y);
+    // $\phi_h$ is undefined at the pole, where $R_y(0)$ leaves any choice equivalent.
+    let (c, s) = if sin_h > 1e-12 { (h.x / sin_h, h.y / sin_h) } else { (1.0, 0.0) };
+    // Rotate by $-\phi_h$ about z ...
+    let l1 = DVec3::new(c * l.x + s * l.y, -s * l.x + c * l.y, l.z);
+    // ... then by $-\theta_h$ about y.
+    DVec3::new(h.z * l1.x - sin_h * l1.z, l1.y, sin_h * l1.x + h.z * l1.z)
+}
+
+/// Node warp of a radius coordinate: $s = t^{1/\gamma}$, so a table uniform in $s$ has its
+/// nodes dense near $t = 0$ ($dt/ds = \gamma s^{\gamma - 1}$ vanishes there).
+pub fn warp_forward(t: f64, gamma: f64) -> f64 {
+    if gamma == 1.0 {
+        t
+    } else {
+        t.clamp(0.0, 1.0).powf(1.0 / gamma)
+    }
+}
+
+/// Inverse of [`warp_forward`]: $t = s^\gamma$.
+pub fn warp_inverse(s: f64, gamma: f64) -> f64 {
+    s.clamp(0.0, 1.0).powf(gamma)
 }
 
 /// The planar radius a 2D map assigns to polar angle $\theta$ (before scaling to the table).
@@ -244,6 +275,41 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn difference_vector_is_light_seen_from_the_half_vector() {
+        // Hand-worked: l and v at 60 degrees on either side of the normal in the xz plane:
+        // h = n, so d = l; theta_d = 60 degrees.
+        let (l, v) = (dir(PI / 3.0, 0.0), dir(PI / 3.0, PI));
+        let h = (l + v).normalize();
+        assert!((difference(l, h) - l).length() < 1e-12);
+        // Any pair: d is a unit vector with d.z = l.h, and h maps to the pole.
+        for k in 0..50 {
+            let l = dir(0.03 * k as f64, 0.7 * k as f64);
+            let v = dir(1.5 - 0.02 * k as f64, 2.0 - 0.3 * k as f64);
+            let h = (l + v).normalize();
+            let d = difference(l, h);
+            assert!((d.length() - 1.0).abs() < 1e-12 && (d.z - l.dot(h)).abs() < 1e-12, "l {l} v {v}: d {d}");
+            assert!((difference(h, h) - DVec3::Z).length() < 1e-12, "h {h}");
+            // Rusinkiewicz: v is l mirrored about the pole in the (h, d) frame, d_v = (-d_x, -d_y, d_z).
+            let dv = difference(v, h);
+            assert!((dv - DVec3::new(-d.x, -d.y, d.z)).length() < 1e-12, "{d} vs {dv}");
+        }
+    }
+
+    #[test]
+    fn warp_round_trips_and_crowds_nodes_near_zero() {
+        for gamma in [1.0, 1.5, 3.0, 8.0] {
+            for i in 0..=100 {
+                let t = i as f64 / 100.0;
+                let s = warp_forward(t, gamma);
+                assert!((warp_inverse(s, gamma) - t).abs() < 1e-12, "gamma {gamma} t {t}");
+            }
+        }
+        // Hand-worked: with gamma = 3, t = 0.1 sits at s = 0.1^(1/3) = 0.4642: 46% of the nodes.
+        assert!((warp_forward(0.1, 3.0) - 0.464_158_883_361_277_9).abs() < 1e-12);
+        assert_eq!(warp_forward(0.37, 1.0), 0.37);
     }
 
     #[test]

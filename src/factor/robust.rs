@@ -325,13 +325,14 @@ impl Levels {
 /// node of a light-factor table.
 fn light_shape(spec: &FactorSpec, node: usize, map: &LogMap, c: usize, max: f64, eps: f64) -> f64 {
     let cos = match spec.param {
-        Param::Radius => param::radius_inverse(node as f64 / (spec.res - 1) as f64, spec.domain).cos(),
+        Param::Radius => param::radius_inverse(param::warp_inverse(node as f64 / (spec.res - 1) as f64, spec.warp), spec.domain).cos(),
         Param::Parabolic | Param::Hemispherical => {
             let (i, j) = (node % spec.res, node / spec.res);
             let t = glam::DVec2::new(i as f64, j as f64) / (spec.res - 1) as f64;
             param::planar_inverse(spec.param, t, spec.domain).z
         }
-        Param::Uv => 1.0,
+        // Not light parameterizations (Settings::validate): no shape to pull toward.
+        Param::Uv | Param::Radii => 1.0,
     };
     let s = max.max(1e-12) * (cos.max(0.0) * (1.0 - eps) + eps);
     map.forward(c, s)

@@ -8,7 +8,7 @@
 
 use glam::DVec2;
 
-use super::param::{self, Param};
+use super::param::{self, Domain, Param};
 use super::pattern::{Pattern, Query};
 use super::settings::{FactorSpec, Input, Settings};
 use super::table::{self, Rows, Stencil};
@@ -16,6 +16,13 @@ use crate::error::{Error, Result};
 
 /// Table coordinate of a query for one factor.
 pub fn coordinate(spec: &FactorSpec, q: &Query) -> [f64; 2] {
+    let [x, y] = unwarped(spec, q);
+    // The node warp acts on the radius axis (Settings::validate allows it nowhere else).
+    [param::warp_forward(x, spec.warp), y]
+}
+
+/// Table coordinate before the node warp.
+fn unwarped(spec: &FactorSpec, q: &Query) -> [f64; 2] {
     let d = match &spec.input {
         Input::Light => q.l,
         Input::Half => q.h(),
@@ -23,6 +30,14 @@ pub fn coordinate(spec: &FactorSpec, q: &Query) -> [f64; 2] {
         Input::Uv => {
             let t = param::uv_forward(q.uv);
             return [t.x, t.y];
+        }
+        Input::Difference => param::difference(q.l, q.h()),
+        Input::HalfDifference => {
+            // $(\theta_h, \theta_d)$: the domain is the half vector's; $\theta_d \le \pi/2$
+            // always ($l \cdot h = |l + v|/2 \ge 0$), so d needs only the hemisphere.
+            let h = q.h();
+            let d = param::difference(q.l, h);
+            return [param::radius_forward(h, spec.domain), param::radius_forward(d, Domain::Hemisphere)];
         }
         Input::Custom(c) => return (c.project)(q),
     };
@@ -36,6 +51,8 @@ pub fn coordinate(spec: &FactorSpec, q: &Query) -> [f64; 2] {
             let t = param::uv_forward(DVec2::new(d.x, d.y));
             [t.x, t.y]
         }
+        // Only the (h, d) pair, returned above, uses two radii (Settings::validate).
+        Param::Radii => [param::radius_forward(d, spec.domain), 0.0],
     }
 }
 

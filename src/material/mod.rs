@@ -201,4 +201,4 @@ impl Reflectance for Material {
     }
 }
 
-pub use store::{FORMAT, VERSION};
+pub use store::{FORMAT, READS, VERSION};

@@ -25,8 +25,13 @@ use crate::images::Rgb;
 
 /// The `format` field of every material.json.
 pub const FORMAT: &str = "brdfpaint-material";
-/// The version this build writes and reads.
-pub const VERSION: u32 = 1;
+/// The version this build writes. Version 2 added the half/difference inputs
+/// (`difference`, `half-difference` with the `radii` parameterization) and the node warp of
+/// radius tables (`warp`, absent when 1).
+pub const VERSION: u32 = 2;
+/// The versions this build reads: version 1 files are version 2 files without those
+/// (every factor unwarped).
+pub const READS: [u32; 2] = [1, 2];
 /// Largest material.json read (the provenance is the only part that grows).
 const MAX_JSON_BYTES: u64 = 16 << 20;
 
@@ -137,11 +142,11 @@ impl Material {
             return Err(Error::format(&json_path, format!("not a brdfpaint material (no \"format\": \"{FORMAT}\")")));
         }
         match header.version {
-            Some(VERSION) => {}
+            Some(v) if READS.contains(&v) => {}
             Some(v) => {
                 return Err(Error::format(
                     &json_path,
-                    format!("material version {v}; this brdfpaint reads version {VERSION}"),
+                    format!("material version {v}; this brdfpaint reads versions {} to {VERSION}", READS[0]),
                 ))
             }
             None => return Err(Error::format(&json_path, "material has no version")),

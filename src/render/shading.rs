@@ -52,6 +52,10 @@ pub fn check(material: &Material) -> Result<()> {
                 (Input::Uv, p) => {
                     return Err(Error::input(format!("{}: uv input with the {p:?} parameterization", at())));
                 }
+                (Input::HalfDifference, Param::Radii) => {}
+                (input, p) if (*input == Input::HalfDifference) != (p == Param::Radii) => {
+                    return Err(Error::input(format!("{}: {} input with the {p:?} parameterization", at(), input.name())));
+                }
                 _ => {}
             }
             if f.spec.res < 2 {
@@ -129,6 +133,8 @@ impl GpuShading {
                     Input::Half => "INPUT_HALF",
                     Input::View => "INPUT_VIEW",
                     Input::Uv => "INPUT_UV",
+                    Input::Difference => "INPUT_DIFFERENCE",
+                    Input::HalfDifference => "INPUT_HALF_DIFFERENCE",
                     Input::Custom(_) => unreachable!("rejected by check"),
                 };
                 let param = match f.spec.param {
@@ -136,6 +142,7 @@ impl GpuShading {
                     Param::Parabolic => "PARAM_PARABOLIC",
                     Param::Hemispherical => "PARAM_HEMISPHERICAL",
                     Param::Uv => "PARAM_UV",
+                    Param::Radii => "PARAM_RADII",
                 };
                 let domain = match f.spec.domain {
                     Domain::Hemisphere => "DOMAIN_HEMISPHERE",
@@ -145,6 +152,8 @@ impl GpuShading {
                 defines.push((FACTOR_DEFINES[j][1], param.to_string()));
                 defines.push((FACTOR_DEFINES[j][2], domain.to_string()));
                 defines.push((FACTOR_DEFINES[j][3], f.spec.dim().to_string()));
+                // A float literal ("1.0", "2.5"): f32's Debug form always has a decimal point.
+                defines.push((FACTOR_DEFINES[j][4], format!("{:?}", f.spec.warp as f32)));
             }
             let (kind, a) = match term.map {
                 LogMap::Identity { .. } => ("MAP_IDENTITY", [0.0; 3]),
@@ -189,14 +198,14 @@ fn rgba(texels: &[[f32; 3]]) -> Vec<f32> {
     texels.iter().flat_map(|t| [t[0], t[1], t[2], 1.0]).collect()
 }
 
-/// `#define` names of factor k: input, param, domain, dim.
-const FACTOR_DEFINES: [[&str; 4]; MAX_FACTORS] = [
-    ["F0_INPUT", "F0_PARAM", "F0_DOMAIN", "F0_DIM"],
-    ["F1_INPUT", "F1_PARAM", "F1_DOMAIN", "F1_DIM"],
-    ["F2_INPUT", "F2_PARAM", "F2_DOMAIN", "F2_DIM"],
-    ["F3_INPUT", "F3_PARAM", "F3_DOMAIN", "F3_DIM"],
-    ["F4_INPUT", "F4_PARAM", "F4_DOMAIN", "F4_DIM"],
-    ["F5_INPUT", "F5_PARAM", "F5_DOMAIN", "F5_DIM"],
+/// `#define` names of factor k: input, param, domain, dim, node warp.
+const FACTOR_DEFINES: [[&str; 5]; MAX_FACTORS] = [
+    ["F0_INPUT", "F0_PARAM", "F0_DOMAIN", "F0_DIM", "F0_WARP"],
+    ["F1_INPUT", "F1_PARAM", "F1_DOMAIN", "F1_DIM", "F1_WARP"],
+    ["F2_INPUT", "F2_PARAM", "F2_DOMAIN", "F2_DIM", "F2_WARP"],
+    ["F3_INPUT", "F3_PARAM", "F3_DOMAIN", "F3_DIM", "F3_WARP"],
+    ["F4_INPUT", "F4_PARAM", "F4_DOMAIN", "F4_DIM", "F4_WARP"],
+    ["F5_INPUT", "F5_PARAM", "F5_DOMAIN", "F5_DIM", "F5_WARP"],
 ];
 
 /// Sampler uniform name and resolution uniform name of factor k.
@@ -219,7 +228,7 @@ mod tests {
     use crate::material::{Coefficients, Factor, Kind, Term};
 
     fn spec(input: Input, param: Param, res: usize) -> FactorSpec {
-        FactorSpec { input, param, domain: Domain::Sphere, res, smooth: 0.0, damp: 0.0, ridge: 0.0 }
+        FactorSpec { input, param, domain: Domain::Sphere, res, smooth: 0.0, damp: 0.0, ridge: 0.0, warp: 1.0 }
     }
 
     fn uniform(factors: Vec<Factor>) -> Material {

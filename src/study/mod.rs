@@ -4,7 +4,8 @@
 //! - [`relative_rms`]: $\sqrt{\sum (m - t)^2 / \sum t^2}$ over every channel of every pair;
 //! - [`median`]: the middle value, the mean of the middle two for an even count;
 //! - [`held_out_error`]: a material against the truth at the G-buffer queries of held-out
-//!   views ([`fidelity`] paints and judges the analytic suite through the real path);
+//!   views ([`fidelity`] paints and judges the analytic suite through the real path;
+//!   [`suite`](mod@suite) judges the wide suite on analytic sphere views, rim light included);
 //! - [`bench`](mod@bench): `brdfpaint bench`, the thesis's tables and the shader frame times;
 //!   [`measure_stroke_to_frame`]: the live painting loop, stroke to frame.
 
@@ -12,6 +13,7 @@ pub mod bench;
 pub mod faults;
 pub mod fidelity;
 mod stroke;
+pub mod suite;
 
 use crate::brdf::{Reflectance, SphereView};
 use crate::error::Result;

@@ -52,10 +52,14 @@ impl TablePlots {
                                 Input::Half => "q(h)",
                                 Input::View => "r(v)",
                                 Input::Uv => "s(uv)",
+                                Input::Difference => "s(θ_d)",
+                                Input::HalfDifference => "q(θ_h, θ_d)",
                                 Input::Custom(_) => "custom",
                             };
                             let max = f.texels.iter().flat_map(|t| t.iter()).fold(0.0f32, |a, &b| a.max(b));
-                            ui.small(format!("term {ti} {name}: {:?} {}D, {} nodes, max {max:.3}", f.spec.param, f.spec.dim(), f.spec.res));
+                            // A warped table's nodes are uniform in t^(1/γ): the curve is drawn over them.
+                            let warp = if f.spec.warp == 1.0 { String::new() } else { format!(" warped γ={}", f.spec.warp) };
+                            ui.small(format!("term {ti} {name}: {:?} {}D, {} nodes{warp}, max {max:.3}", f.spec.param, f.spec.dim(), f.spec.res));
                             if f.spec.dim() == 1 {
                                 plot_curves(ui, &f.texels, max, f.spec.domain == Domain::Sphere, Vec2::new(height * 1.8, height - 18.0));
                             } else {

@@ -1,0 +1,74 @@
+//! The wide suite of issue 15 (23 analytic models) painted on the analytic sphere from one
+//! and from three views (the standard three, and three that also see side and back light),
+//! judged on five held-out views (rim and side light among them).
+//!
+//! `cargo run --release --example suite [-- FACTORS]` where FACTORS names the settings:
+//! `default` (the thesis's p(l) q(h) r(v)), or one of the candidates listed by `--list`.
+
+use brdfpaint::brdf::Analytic;
+use brdfpaint::study::suite::{held_out, measure, paintings, peaks, sharp_model, summary, wide_paintings};
+
+fn main() -> brdfpaint::Result<()> {
+    let name = std::env::args().nth(1).unwrap_or_else(|| "default".into());
+    let candidates = brdfpaint::study::suite::candidates();
+    if name == "--list" {
+        for (n, _) in &candidates {
+            println!("{n}");
+        }
+        return Ok(());
+    }
+    let Some((_, settings)) = candidates.iter().find(|(n, _)| *n == name) else {
+        return Err(brdfpaint::Error::input(format!("unknown settings '{name}' (see --list)")));
+    };
+    let models = Analytic::wide_suite();
+    let one = measure(&models, settings, &paintings(1))?;
+    let three = measure(&models, settings, &paintings(3))?;
+    let wide = measure(&models, settings, &wide_paintings())?;
+    let views: Vec<&str> = held_out(2).iter().map(|(n, _)| *n).collect();
+    println!("settings '{name}': held-out relative RMS (pooled over {} views), train, and per view from 3 paintings", views.len());
+    print!("{:<22} {:>7} {:>7} {:>7} {:>7} {:>7}", "model", "1 view", "3 views", "3 wide", "train1", "train3");
+    for v in &views {
+        print!(" {v:>7}");
+    }
+    println!();
+    for ((a, b), c) in one.iter().zip(&three).zip(&wide) {
+        print!("{:<22} {:>7.4} {:>7.4} {:>7.4} {:>7.4} {:>7.4}", a.model, a.held_out, b.held_out, c.held_out, a.train, b.train);
+        for e in &b.views {
+            print!(" {e:>7.4}");
+        }
+        print!("  wide:");
+        for e in &c.views {
+            print!(" {e:>7.4}");
+        }
+        println!();
+    }
+    let (m1, w1) = summary(&one);
+    let (m3, w3) = summary(&three);
+    let (mw, ww) = summary(&wide);
+    // Speed of one refit on one painting (~7.9k samples), as `brdfpaint bench` times it: log
+    // mapping, scatter, solve, linear tables, one mapping.
+    let pattern = paintings(1)[0].pattern();
+    let prepared = brdfpaint::factor::prepare(&pattern, settings)?;
+    let values = pattern.shade(|q| brdfpaint::brdf::Reflectance::shading(&models[4], q));
+    let map = brdfpaint::factor::LogMap::Identity { floor: [1e-4; 3] };
+    let solve_s = brdfpaint::study::bench::median_time(200, 1.0, || {
+        std::hint::black_box(prepared.solve_tables(&values, &map).expect("solve"));
+    });
+    println!(
+        "one painting: {} samples, {} unknowns, prepare {:.2} ms, solve {:.3} ms (median)",
+        prepared.samples(),
+        prepared.unknowns(),
+        prepared.prepare_s * 1e3,
+        solve_s * 1e3
+    );
+    let sharp = sharp_model();
+    for (label, painted) in [("1 view", paintings(1)), ("3 views", paintings(3))] {
+        print!("{} peak from {label}, fitted/true per held-out view:", sharp.name());
+        for (view, fitted, truth) in peaks(&sharp, settings, &painted)? {
+            print!(" {view} {:.3}", fitted / truth);
+        }
+        println!();
+    }
+    println!("median held-out: 1 view {m1:.4}, 3 views {m3:.4}, 3 wide {mw:.4}; worst view: 1 view {w1:.3}, 3 views {w3:.3}, 3 wide {ww:.3}");
+    Ok(())
+}
