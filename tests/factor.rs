@@ -161,6 +161,7 @@ fn exact_products_with_half_difference_factors_are_recovered() {
                 f(Input::View, Param::Radius, Domain::Hemisphere, 7),
             ],
             method: Method::Cholesky,
+            light_prior: None,
         };
         let truth = random_tables(&settings, 30 + k as u64);
         let pattern = directions(20_000, 40 + k as u64);
