@@ -262,3 +262,77 @@ fn usage_errors_are_one_line_naming_the_flag() {
         assert!(r.stderr.starts_with("error: ") && r.stderr.contains(flag), "{args:?}: {}", r.stderr);
     }
 }
+
+/// A JPEG as a real encoder writes it (the image crate's, baseline, 4:2:0) of a picture with
+/// detail in every block, so every scan carries real entropy-coded data.
+fn textured_jpeg(w: u32, h: u32) -> Vec<u8> {
+    let img = image::RgbImage::from_fn(w, h, |x, y| {
+        image::Rgb([(x * 255 / w) as u8, (y * 255 / h) as u8, (((x * 7) ^ (y * 5)) % 200 + 40) as u8])
+    });
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut bytes, image::ImageFormat::Jpeg).unwrap();
+    bytes.into_inner()
+}
+
+/// Where the entropy-coded data of the (single) scan starts and ends: after the SOS segment,
+/// before the EOI marker.
+fn scan_data(jpeg: &[u8]) -> std::ops::Range<usize> {
+    let sos = jpeg.windows(2).position(|w| w == [0xFF, 0xDA]).unwrap();
+    let len = u16::from_be_bytes([jpeg[sos + 2], jpeg[sos + 3]]) as usize;
+    assert_eq!(&jpeg[jpeg.len() - 2..], &[0xFF, 0xD9]);
+    sos + 2 + len..jpeg.len() - 2
+}
+
+/// A truncated JPEG, or one whose scan data is damaged, is refused with one line naming the
+/// file, and nothing is written (issue 13, item 5). The image crate alone decodes every one
+/// of these files "successfully", the missing or broken part grey: the check is ours.
+#[test]
+fn truncated_and_corrupt_jpegs_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("sphere.gltf");
+    frame(vec![sphere_mesh(16, 8)], &Preset::default(), 1.0).write_gltf(&scene).unwrap();
+    let good = textured_jpeg(96, 96);
+    let scan = scan_data(&good);
+    let mid = (scan.start + scan.end) / 2;
+
+    let mut cases: Vec<(&str, Vec<u8>)> = vec![];
+    // Cut in the middle of the scan, as a half-written save or a broken download is.
+    cases.push(("cut.jpg", good[..mid].to_vec()));
+    // Cut, then given an end marker: only decoding the scan finds it short.
+    let mut cut_marked = good[..mid].to_vec();
+    cut_marked.extend_from_slice(&[0xFF, 0xD9]);
+    cases.push(("cut-with-end-marker.jpg", cut_marked));
+    // 64 bytes of the scan overwritten with one-bits (FF 00 is a stuffed 0xFF byte): the
+    // Huffman codes of JPEG never consist of 16 one-bits, so this cannot decode.
+    let mut ones = good.clone();
+    for k in (mid..mid + 64).step_by(2) {
+        ones[k..k + 2].copy_from_slice(&[0xFF, 0x00]);
+    }
+    cases.push(("ones-in-scan.jpg", ones));
+    // A marker inside the scan data: the start of another image.
+    let mut marker = good.clone();
+    marker[mid..mid + 2].copy_from_slice(&[0xFF, 0xD8]);
+    cases.push(("marker-in-scan.jpg", marker));
+
+    let fit = |image: &Path, out: &Path| {
+        brdfpaint(dir.path(), &["fit", "--scene", s(&scene), "--image", s(image), "--res", "16", "--out", s(out)])
+    };
+    // The whole file fits: the refusals below are about the damage, not the picture.
+    let path = dir.path().join("good.jpg");
+    std::fs::write(&path, &good).unwrap();
+    let r = fit(&path, &dir.path().join("mat-good"));
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    for (name, bytes) in cases {
+        assert!(
+            image::load_from_memory_with_format(&bytes, image::ImageFormat::Jpeg).is_ok(),
+            "{name}: the image crate alone accepts this file"
+        );
+        let path = dir.path().join(name);
+        std::fs::write(&path, &bytes).unwrap();
+        let out = dir.path().join(format!("mat-{name}"));
+        let r = fit(&path, &out);
+        assert_eq!(r.code, 1, "{name} is refused: {}", r.stderr);
+        assert_one_line_error(&r, &[name, "corrupt or truncated JPEG"]);
+        assert!(!out.exists(), "{name}: nothing is written");
+    }
+}
