@@ -336,3 +336,46 @@ fn truncated_and_corrupt_jpegs_are_refused() {
         assert!(!out.exists(), "{name}: nothing is written");
     }
 }
+
+/// `sheet --size 4096x4096`, the largest sheet, within 1 GiB (issue 13, item 6): the peak
+/// resident memory the kernel measured for the run (`wait4`), which also runs under a 3 GiB
+/// address-space limit (`ulimit -v`; Mesa's llvmpipe maps much more than it touches, so the
+/// limit is looser than the target). Before the G-buffer was drawn and used in bands, this
+/// run peaked at 3.5 GB and aborted under a 4 GB limit.
+#[test]
+fn the_largest_sheet_fits_in_a_gigabyte() {
+    use std::os::unix::process::CommandExt;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("sheet");
+    let log = std::fs::File::create(dir.path().join("stderr.txt")).unwrap();
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_brdfpaint"));
+    cmd.args(["sheet", "--model", "bunny", "--size", "4096x4096", "--out", s(&out)])
+        .env("BRDFPAINT_CACHE", dir.path())
+        .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .stdout(Stdio::null())
+        .stderr(log);
+    const ADDRESS_SPACE: libc::rlim_t = 3 << 30;
+    // SAFETY: only async-signal-safe calls between fork and exec.
+    unsafe {
+        cmd.pre_exec(|| {
+            let limit = libc::rlimit { rlim_cur: ADDRESS_SPACE, rlim_max: ADDRESS_SPACE };
+            if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    let child = cmd.spawn().unwrap();
+    let pid = child.id() as libc::pid_t;
+    let (mut status, mut usage) = (0, unsafe { std::mem::zeroed::<libc::rusage>() });
+    // SAFETY: waits for our own child, which `child` never waits for.
+    assert_eq!(unsafe { libc::wait4(pid, &mut status, 0, &mut usage) }, pid);
+    let stderr = std::fs::read_to_string(dir.path().join("stderr.txt")).unwrap();
+    assert!(libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0, "sheet failed ({status:#x}): {stderr}");
+    // ru_maxrss is in kilobytes on Linux.
+    let peak = usage.ru_maxrss as u64 * 1024;
+    assert!(peak <= 1 << 30, "a 4096x4096 sheet peaked at {} MiB", peak >> 20);
+    for f in ["outline.png", "page.png", "reference.png", "mask.png"] {
+        assert_eq!(image::image_dimensions(out.join(f)).unwrap(), (4096, 4096), "{f}");
+    }
+}
