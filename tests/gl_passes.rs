@@ -462,5 +462,9 @@ fn a_sheet_drawn_in_bands_is_the_sheet_of_the_whole_image() {
         assert!(sheet.hit == hit, "mask, bands of {rows}");
         assert!(sheet.lines == lines, "lines, bands of {rows}");
         assert!(sheet.reference == reference, "reference, bands of {rows}");
+        // Code that clears and draws a target itself (the viewer, the stroke timing) must
+        // not be clipped to the last band.
+        // SAFETY: a state query on the current context.
+        assert!(!unsafe { glow::HasContext::is_enabled(&**ctx.gl(), glow::SCISSOR_TEST) }, "scissor left on");
     }
 }

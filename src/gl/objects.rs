@@ -390,7 +390,8 @@ impl Framebuffer {
     /// inside the band gets exactly the value a full pass gives it (same viewport, same
     /// rasterization; the scissor only discards fragments), so an image can be drawn and
     /// read back band by band with the memory of one band ([`Framebuffer::read_rows`]).
-    /// Passes that follow call `begin_pass`, which turns the scissor off.
+    /// The scissor stays on after the pass: whoever bands turns it off when done
+    /// (`begin_pass` does too).
     pub fn begin_band(&self, rows: std::ops::Range<usize>) {
         self.begin_pass_scissored(Some(rows));
     }

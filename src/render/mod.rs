@@ -330,22 +330,20 @@ impl Renderer {
         Framebuffer::sized(&mut self.target, &self.gl, width, height)?;
         let view = View::new(&scene.camera, width, height)?;
         let light = LightUniforms::new(&scene.light)?;
-        for start in (0..height).step_by(rows.max(1)) {
-            let band = start..(start + rows.max(1)).min(height);
+        self.in_bands(height, rows, |r, band| {
             let mut passes: [Vec<[f32; 4]>; 6] = Default::default();
             for (k, pass) in passes.iter_mut().enumerate() {
-                self.begin_band(width, height, band.clone())?;
-                let p = &self.gbuffer;
+                r.begin_band(width, height, band.clone())?;
+                let p = &r.gbuffer;
                 p.bind();
                 view.apply(p);
                 light.apply(p);
                 p.set_i32("u_output", k as i32);
-                self.draw_all(p, scene);
-                *pass = self.read_rows(band.clone())?;
+                r.draw_all(p, scene);
+                *pass = r.read_rows(band.clone())?;
             }
-            each(start, gbuffer::assemble(width, band.len(), &passes))?;
-        }
-        Ok(())
+            each(band.start, gbuffer::assemble(width, band.len(), &passes))
+        })
     }
 
     /// The reference image of [`Renderer::reference`] in horizontal bands of at most `rows`
@@ -363,10 +361,9 @@ impl Renderer {
         let view = View::new(&scene.camera, width, height)?;
         let mut light = LightUniforms::new(&scene.light)?;
         light.rgb *= style.exposure;
-        for start in (0..height).step_by(rows.max(1)) {
-            let band = start..(start + rows.max(1)).min(height);
-            self.begin_band(width, height, band.clone())?;
-            let p = &self.reference;
+        self.in_bands(height, rows, |r, band| {
+            r.begin_band(width, height, band.clone())?;
+            let p = &r.reference;
             p.bind();
             view.apply(p);
             light.apply(p);
@@ -374,11 +371,26 @@ impl Renderer {
             p.set_vec3("u_diffuse", style.diffuse);
             p.set_vec3("u_specular", style.specular);
             p.set_f32("u_shininess", style.shininess);
-            self.draw_all(p, scene);
-            let pixels = self.read_rows(band.clone())?;
-            each(start, Image { width, height: band.len(), pixels })?;
-        }
-        Ok(())
+            r.draw_all(p, scene);
+            let pixels = r.read_rows(band.clone())?;
+            each(band.start, Image { width, height: band.len(), pixels })
+        })
+    }
+
+    /// Calls `band(self, rows)` for the bands of `rows` rows of an image `height` high, top
+    /// to bottom, and then turns the scissor test off, whatever happened: code that draws
+    /// after (the viewer, the stroke timing) clears and draws the whole target.
+    fn in_bands(
+        &mut self,
+        height: usize,
+        rows: usize,
+        mut band: impl FnMut(&mut Renderer, std::ops::Range<usize>) -> Result<()>,
+    ) -> Result<()> {
+        let rows = rows.max(1);
+        let result = (0..height).step_by(rows).try_for_each(|start| band(self, start..(start + rows).min(height)));
+        // SAFETY: a state change on the current context.
+        unsafe { self.gl.disable(glow::SCISSOR_TEST) };
+        result
     }
 
     /// The coverage mask: 1 where the pixel centre sees the object, else 0 (one pass).
@@ -413,7 +425,8 @@ impl Renderer {
         Ok(())
     }
 
-    /// [`Renderer::begin`], drawing only rows `rows` (from the top) of the target.
+    /// [`Renderer::begin`], drawing only rows `rows` (from the top) of the target (the
+    /// scissor stays on until [`Renderer::in_bands`] ends).
     fn begin_band(&mut self, width: usize, height: usize, rows: std::ops::Range<usize>) -> Result<()> {
         Framebuffer::sized(&mut self.target, &self.gl, width, height)?.begin_band(rows);
         crate::gl_check!(self.gl, "target setup");
