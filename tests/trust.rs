@@ -83,7 +83,8 @@ fn assert_one_line_error(r: &Run, parts: &[&str]) {
 fn gltf_files_that_panicked_the_reader_are_one_line_errors() {
     let dir = tempfile::tempdir().unwrap();
     let base = external_scene(dir.path());
-    let cases: Vec<(&str, Box<dyn Fn(&mut Value)>, &str)> = vec![
+    type Edit = Box<dyn Fn(&mut Value)>;
+    let cases: Vec<(&str, Edit, &str)> = vec![
         (
             "position-out-of-range.gltf",
             Box::new(|j| j["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 999.into()),
@@ -365,10 +366,11 @@ fn the_largest_sheet_fits_in_a_gigabyte() {
             Ok(())
         });
     }
-    let child = cmd.spawn().unwrap();
-    let pid = child.id() as libc::pid_t;
+    // Reaped by `wait4` below, which also gives its resource usage.
+    #[allow(clippy::zombie_processes)]
+    let pid = cmd.spawn().unwrap().id() as libc::pid_t;
     let (mut status, mut usage) = (0, unsafe { std::mem::zeroed::<libc::rusage>() });
-    // SAFETY: waits for our own child, which `child` never waits for.
+    // SAFETY: waits for our own child (std's handle to it was dropped without waiting).
     assert_eq!(unsafe { libc::wait4(pid, &mut status, 0, &mut usage) }, pid);
     let stderr = std::fs::read_to_string(dir.path().join("stderr.txt")).unwrap();
     assert!(libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0, "sheet failed ({status:#x}): {stderr}");

@@ -487,7 +487,8 @@ fn watch_mode_refuses_half_written_and_damaged_jpegs() {
     for k in (mid..mid + 64).step_by(2) {
         damaged[k..k + 2].copy_from_slice(&[0xFF, 0x00]);
     }
-    let bad: [(&str, Box<dyn Fn()>); 3] = [
+    type Write<'a> = Box<dyn Fn() + 'a>;
+    let bad: [(&str, Write); 3] = [
         ("corrupt or truncated JPEG", Box::new(|| std::fs::write(&path, &cool[..mid]).unwrap())),
         ("corrupt or truncated JPEG", Box::new(|| std::fs::write(&path, &damaged).unwrap())),
         ("FIFO", Box::new(|| {
