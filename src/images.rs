@@ -98,6 +98,7 @@ pub fn decode_limited(path: &Path, bytes: &[u8], format: ImageFormat) -> Result<
     }
     if format == ImageFormat::Jpeg {
         check_jpeg_complete(bytes).map_err(|reason| Error::format(path, format!("corrupt or truncated JPEG: {reason}")))?;
+        return decode_jpeg_strict(bytes).map_err(|reason| Error::format(path, format!("corrupt or truncated JPEG: {reason}")));
     }
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(MAX_DECODE_SIDE as u32);
@@ -106,6 +107,58 @@ pub fn decode_limited(path: &Path, bytes: &[u8], format: ImageFormat) -> Result<
     let mut r = reader();
     r.limits(limits);
     r.decode().map_err(corrupt)
+}
+
+/// Decodes a JPEG (checked whole by [`check_jpeg_complete`]) in the decoder's strict mode. The image crate drives the same decoder
+/// (zune-jpeg) leniently, as browsers do: a scan cut short, an invalid Huffman code or a
+/// marker inside the scan data ends the decode quietly with the rest of the picture grey,
+/// and the file "succeeds". Here each of those is an error, so a damaged painting is
+/// refused instead of fitted into a worse material. What no decoder can see is a damaged
+/// scan that still parses (JPEG data has no checksum, and Huffman codes resynchronize):
+/// such a file decodes, with a blocky glitch, as it would anywhere else.
+///
+/// One more thing strict mode does not see: a scan whose data runs out at a marker is
+/// finished with zero bits, which decode as flat blocks. So 64 one-bits (`FF 00`, a stuffed
+/// 0xFF byte, eight times) are put before the end marker: a whole file's scan ends before
+/// them (its last byte is already padded with one-bits, as the standard asks), while a scan
+/// that runs short reads them, and 16 one-bits are no JPEG Huffman code: an error.
+///
+/// The output colours follow the image crate's choice (grey, grey with alpha, RGB and RGBA
+/// kept; CMYK and YCCK converted to RGB). The size was checked from the header before this.
+fn decode_jpeg_strict(bytes: &[u8]) -> std::result::Result<image::DynamicImage, String> {
+    use zune_core::colorspace::ColorSpace as Z;
+    let one_line = |e: zune_jpeg::errors::DecodeErrors| e.to_string().replace('"', "").split_whitespace().collect::<Vec<_>>().join(" ");
+    let options = zune_core::options::DecoderOptions::default()
+        .set_strict_mode(true)
+        .set_max_width(MAX_DECODE_SIDE)
+        .set_max_height(MAX_DECODE_SIDE);
+    let eoi = bytes.windows(2).rposition(|w| w == [0xFF, 0xD9]).ok_or("no end-of-image marker")?;
+    let mut padded = Vec::with_capacity(bytes.len() + 16);
+    padded.extend_from_slice(&bytes[..eoi]);
+    padded.extend_from_slice(&[0xFF, 0x00].repeat(8));
+    padded.extend_from_slice(&bytes[eoi..]);
+    let bytes = &padded[..];
+    let mut headers = zune_jpeg::JpegDecoder::new_with_options(zune_core::bytestream::ZCursor::new(bytes), options);
+    headers.decode_headers().map_err(one_line)?;
+    let out = match headers.input_colorspace() {
+        Some(c @ (Z::RGB | Z::RGBA | Z::Luma | Z::LumaA)) => c,
+        _ => Z::RGB,
+    };
+    let (w, h) = headers.dimensions().ok_or("no image size in the header")?;
+    let mut decoder = zune_jpeg::JpegDecoder::new_with_options(
+        zune_core::bytestream::ZCursor::new(bytes),
+        options.jpeg_set_out_colorspace(out),
+    );
+    let pixels = decoder.decode().map_err(one_line)?;
+    let (w, h) = (w as u32, h as u32);
+    let mismatch = format!("{} decoded bytes for a {w}x{h} image", pixels.len());
+    let image = match out {
+        Z::Luma => image::GrayImage::from_raw(w, h, pixels).map(image::DynamicImage::ImageLuma8),
+        Z::LumaA => image::GrayAlphaImage::from_raw(w, h, pixels).map(image::DynamicImage::ImageLumaA8),
+        Z::RGBA => image::RgbaImage::from_raw(w, h, pixels).map(image::DynamicImage::ImageRgba8),
+        _ => image::RgbImage::from_raw(w, h, pixels).map(image::DynamicImage::ImageRgb8),
+    };
+    image.ok_or(mismatch)
 }
 
 /// A JPEG's entropy-coded data ends with the EOI marker (FF D9): the JPEG decoder fills a

@@ -431,3 +431,40 @@ fn bad_input_is_an_error_not_a_panic() {
     let e = Program::new(gl, "bad", &vs, &fs).err().expect("compile error").to_string();
     assert!(e.contains("fragment shader 'bad'") && e.contains("no_such_sampler"), "{e}");
 }
+
+/// A sheet drawn in bands (the scissored G-buffer and reference passes, the row-by-row line
+/// tracer) is the sheet of the whole-image passes: the mask and lines of one full
+/// `Renderer::gbuffer`, the reference of one full `Renderer::reference`, for bands of 1, 7
+/// and 13 rows of a model with creases and occlusion contours, and a size that no band
+/// height divides.
+#[test]
+fn a_sheet_drawn_in_bands_is_the_sheet_of_the_whole_image() {
+    use brdfpaint::render::Sheet;
+    let (ctx, mut r) = setup();
+    let (w, h) = (90, 76);
+    let scene = Scene::from_preset("suzanne", "front-left").unwrap();
+    let gpu = GpuScene::upload(ctx.gl(), &scene).unwrap();
+    let g = r.gbuffer(&gpu, w, h).unwrap();
+    let style = ReferenceStyle { exposure: brdfpaint::render::reference_exposure(&g, &scene.light), ..ReferenceStyle::default() };
+    let reference: Vec<u8> = r
+        .reference(&gpu, &style, w, h)
+        .unwrap()
+        .pixels
+        .iter()
+        .flat_map(|p| [p[0], p[1], p[2]].map(brdfpaint::images::encode_srgb8))
+        .collect();
+    let hit: Vec<bool> = g.pixels.iter().map(|p| p.hit).collect();
+    let lines = g.lines(&OutlineStyle::default());
+    assert!(lines.iter().filter(|&&l| l).count() > 100 && g.coverage() > 1000, "a picture with lines");
+    for rows in [1, 7, 13, h] {
+        let sheet = Sheet::render_in_bands(&mut r, &scene, w, h, rows).unwrap();
+        assert_eq!((sheet.width, sheet.height, sheet.coverage), (w, h, g.coverage()), "bands of {rows}");
+        assert!(sheet.hit == hit, "mask, bands of {rows}");
+        assert!(sheet.lines == lines, "lines, bands of {rows}");
+        assert!(sheet.reference == reference, "reference, bands of {rows}");
+        // Code that clears and draws a target itself (the viewer, the stroke timing) must
+        // not be clipped to the last band.
+        // SAFETY: a state query on the current context.
+        assert!(!unsafe { glow::HasContext::is_enabled(&**ctx.gl(), glow::SCISSOR_TEST) }, "scissor left on");
+    }
+}

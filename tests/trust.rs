@@ -83,7 +83,8 @@ fn assert_one_line_error(r: &Run, parts: &[&str]) {
 fn gltf_files_that_panicked_the_reader_are_one_line_errors() {
     let dir = tempfile::tempdir().unwrap();
     let base = external_scene(dir.path());
-    let cases: Vec<(&str, Box<dyn Fn(&mut Value)>, &str)> = vec![
+    type Edit = Box<dyn Fn(&mut Value)>;
+    let cases: Vec<(&str, Edit, &str)> = vec![
         (
             "position-out-of-range.gltf",
             Box::new(|j| j["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 999.into()),
@@ -260,5 +261,123 @@ fn usage_errors_are_one_line_naming_the_flag() {
         assert_eq!(r.code, 2, "{args:?}: {}", r.stderr);
         assert_eq!(r.stderr.lines().count(), 1, "{args:?}: {}", r.stderr);
         assert!(r.stderr.starts_with("error: ") && r.stderr.contains(flag), "{args:?}: {}", r.stderr);
+    }
+}
+
+/// A JPEG as a real encoder writes it (the image crate's, baseline, 4:2:0) of a picture with
+/// detail in every block, so every scan carries real entropy-coded data.
+fn textured_jpeg(w: u32, h: u32) -> Vec<u8> {
+    let img = image::RgbImage::from_fn(w, h, |x, y| {
+        image::Rgb([(x * 255 / w) as u8, (y * 255 / h) as u8, (((x * 7) ^ (y * 5)) % 200 + 40) as u8])
+    });
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut bytes, image::ImageFormat::Jpeg).unwrap();
+    bytes.into_inner()
+}
+
+/// Where the entropy-coded data of the (single) scan starts and ends: after the SOS segment,
+/// before the EOI marker.
+fn scan_data(jpeg: &[u8]) -> std::ops::Range<usize> {
+    let sos = jpeg.windows(2).position(|w| w == [0xFF, 0xDA]).unwrap();
+    let len = u16::from_be_bytes([jpeg[sos + 2], jpeg[sos + 3]]) as usize;
+    assert_eq!(&jpeg[jpeg.len() - 2..], &[0xFF, 0xD9]);
+    sos + 2 + len..jpeg.len() - 2
+}
+
+/// A truncated JPEG, or one whose scan data is damaged, is refused with one line naming the
+/// file, and nothing is written (issue 13, item 5). The image crate alone decodes every one
+/// of these files "successfully", the missing or broken part grey: the check is ours.
+#[test]
+fn truncated_and_corrupt_jpegs_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("sphere.gltf");
+    frame(vec![sphere_mesh(16, 8)], &Preset::default(), 1.0).write_gltf(&scene).unwrap();
+    let good = textured_jpeg(96, 96);
+    let scan = scan_data(&good);
+    let mid = (scan.start + scan.end) / 2;
+
+    let mut cases: Vec<(&str, Vec<u8>)> = vec![];
+    // Cut in the middle of the scan, as a half-written save or a broken download is.
+    cases.push(("cut.jpg", good[..mid].to_vec()));
+    // Cut, then given an end marker: only decoding the scan finds it short.
+    let mut cut_marked = good[..mid].to_vec();
+    cut_marked.extend_from_slice(&[0xFF, 0xD9]);
+    cases.push(("cut-with-end-marker.jpg", cut_marked));
+    // 64 bytes of the scan overwritten with one-bits (FF 00 is a stuffed 0xFF byte): the
+    // Huffman codes of JPEG never consist of 16 one-bits, so this cannot decode.
+    let mut ones = good.clone();
+    for k in (mid..mid + 64).step_by(2) {
+        ones[k..k + 2].copy_from_slice(&[0xFF, 0x00]);
+    }
+    cases.push(("ones-in-scan.jpg", ones));
+    // A marker inside the scan data: the start of another image.
+    let mut marker = good.clone();
+    marker[mid..mid + 2].copy_from_slice(&[0xFF, 0xD8]);
+    cases.push(("marker-in-scan.jpg", marker));
+
+    let fit = |image: &Path, out: &Path| {
+        brdfpaint(dir.path(), &["fit", "--scene", s(&scene), "--image", s(image), "--res", "16", "--out", s(out)])
+    };
+    // The whole file fits: the refusals below are about the damage, not the picture.
+    let path = dir.path().join("good.jpg");
+    std::fs::write(&path, &good).unwrap();
+    let r = fit(&path, &dir.path().join("mat-good"));
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    for (name, bytes) in cases {
+        assert!(
+            image::load_from_memory_with_format(&bytes, image::ImageFormat::Jpeg).is_ok(),
+            "{name}: the image crate alone accepts this file"
+        );
+        let path = dir.path().join(name);
+        std::fs::write(&path, &bytes).unwrap();
+        let out = dir.path().join(format!("mat-{name}"));
+        let r = fit(&path, &out);
+        assert_eq!(r.code, 1, "{name} is refused: {}", r.stderr);
+        assert_one_line_error(&r, &[name, "corrupt or truncated JPEG"]);
+        assert!(!out.exists(), "{name}: nothing is written");
+    }
+}
+
+/// `sheet --size 4096x4096`, the largest sheet, within 1 GiB (issue 13, item 6): the peak
+/// resident memory the kernel measured for the run (`wait4`), which also runs under a 3 GiB
+/// address-space limit (`ulimit -v`; Mesa's llvmpipe maps much more than it touches, so the
+/// limit is looser than the target). Before the G-buffer was drawn and used in bands, this
+/// run peaked at 3.5 GB and aborted under a 4 GB limit.
+#[test]
+fn the_largest_sheet_fits_in_a_gigabyte() {
+    use std::os::unix::process::CommandExt;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("sheet");
+    let log = std::fs::File::create(dir.path().join("stderr.txt")).unwrap();
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_brdfpaint"));
+    cmd.args(["sheet", "--model", "bunny", "--size", "4096x4096", "--out", s(&out)])
+        .env("BRDFPAINT_CACHE", dir.path())
+        .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .stdout(Stdio::null())
+        .stderr(log);
+    const ADDRESS_SPACE: libc::rlim_t = 3 << 30;
+    // SAFETY: only async-signal-safe calls between fork and exec.
+    unsafe {
+        cmd.pre_exec(|| {
+            let limit = libc::rlimit { rlim_cur: ADDRESS_SPACE, rlim_max: ADDRESS_SPACE };
+            if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    // Reaped by `wait4` below, which also gives its resource usage.
+    #[allow(clippy::zombie_processes)]
+    let pid = cmd.spawn().unwrap().id() as libc::pid_t;
+    let (mut status, mut usage) = (0, unsafe { std::mem::zeroed::<libc::rusage>() });
+    // SAFETY: waits for our own child (std's handle to it was dropped without waiting).
+    assert_eq!(unsafe { libc::wait4(pid, &mut status, 0, &mut usage) }, pid);
+    let stderr = std::fs::read_to_string(dir.path().join("stderr.txt")).unwrap();
+    assert!(libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0, "sheet failed ({status:#x}): {stderr}");
+    // ru_maxrss is in kilobytes on Linux.
+    let peak = usage.ru_maxrss as u64 * 1024;
+    assert!(peak <= 1 << 30, "a 4096x4096 sheet peaked at {} MiB", peak >> 20);
+    for f in ["outline.png", "page.png", "reference.png", "mask.png"] {
+        assert_eq!(image::image_dimensions(out.join(f)).unwrap(), (4096, 4096), "{f}");
     }
 }

@@ -442,3 +442,77 @@ fn white_strokes_keep_every_refit_bounded() {
         eprintln!("after stroke {n}: brightest rendered value {top:.3}");
     }
 }
+
+/// `view --watch p.jpg` reads a JPEG as `fit` does (issue 13, item 5): a half-written JPEG,
+/// one with a damaged scan, or a FIFO put at its path leaves the last good material (not a
+/// grey one) and says why in one line naming the file; the finished file fits again.
+#[test]
+fn watch_mode_refuses_half_written_and_damaged_jpegs() {
+    let ctx = HeadlessContext::new().unwrap();
+    let mut renderer = Renderer::new(ctx.gl()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Scene::from_preset("sphere", "front-left").unwrap();
+    let view = PaintView::new(&mut renderer, "scene.gltf", scene, 64, 64).unwrap();
+    // The reference painting tinted, as an 8-bit sRGB JPEG (the background black).
+    let jpeg = |view: &PaintView, tint: [f32; 3]| {
+        let p = view.reference_painting();
+        let img = image::RgbImage::from_fn(p.width as u32, p.height as u32, |i, j| {
+            let c = p.pixels[j as usize * p.width + i as usize];
+            image::Rgb([0, 1, 2].map(|k| brdfpaint::images::encode_srgb8(c[k] * tint[k])))
+        });
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        img.write_to(&mut bytes, image::ImageFormat::Jpeg).unwrap();
+        bytes.into_inner()
+    };
+    let warm = jpeg(&view, [1.0, 0.6, 0.3]);
+    let cool = jpeg(&view, [0.3, 0.5, 1.0]);
+    let path = dir.path().join("p.jpg");
+    std::fs::write(&path, &warm).unwrap();
+    let mut session = PaintSession::new(Settings::default(), Mapping::Auto);
+    session.add_view(view);
+    let mut watcher = Watcher::new(&path, 0);
+    let status = watcher.check(&mut session, &mut renderer).cloned();
+    assert!(matches!(status, Some(WatchStatus::Fitted { samples }) if samples > 500), "{status:?}");
+    let good = session.material().unwrap().clone();
+    let canvas = session.views[0].canvas.painting().clone();
+    let q = brdfpaint::factor::Query { l: glam::DVec3::Z, v: glam::DVec3::Z, uv: glam::DVec2::ZERO };
+    let c = good.shading(&q);
+    assert!(c[0] > 1.5 * c[2], "the warm painting fits warm: {c:?}");
+
+    // The cool painting, caught mid-write; then whole but with 64 bytes of its scan
+    // overwritten (one-bits: no JPEG Huffman code); then a FIFO in its place.
+    let sos = cool.windows(2).position(|w| w == [0xFF, 0xDA]).unwrap();
+    let mid = (sos + cool.len()) / 2;
+    let mut damaged = cool.clone();
+    for k in (mid..mid + 64).step_by(2) {
+        damaged[k..k + 2].copy_from_slice(&[0xFF, 0x00]);
+    }
+    type Write<'a> = Box<dyn Fn() + 'a>;
+    let bad: [(&str, Write); 3] = [
+        ("corrupt or truncated JPEG", Box::new(|| std::fs::write(&path, &cool[..mid]).unwrap())),
+        ("corrupt or truncated JPEG", Box::new(|| std::fs::write(&path, &damaged).unwrap())),
+        ("FIFO", Box::new(|| {
+            std::fs::remove_file(&path).unwrap();
+            let c = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+            assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+        })),
+    ];
+    for (reason, write) in bad {
+        write();
+        match watcher.check(&mut session, &mut renderer) {
+            Some(WatchStatus::Failed(e)) => {
+                assert!(e.contains("p.jpg") && e.contains(reason) && !e.contains('\n'), "{e}")
+            }
+            other => panic!("{reason}: must fail, got {other:?}"),
+        }
+        assert_eq!(session.material().unwrap().terms, good.terms, "{reason}: the last good material stays");
+        assert_eq!(session.views[0].canvas.painting(), &canvas, "{reason}: the canvas stays");
+    }
+
+    // The painter finishes writing: the cool painting fits.
+    std::fs::remove_file(&path).unwrap();
+    std::fs::write(&path, &cool).unwrap();
+    assert!(matches!(watcher.check(&mut session, &mut renderer), Some(WatchStatus::Fitted { .. })));
+    let c = session.material().unwrap().shading(&q);
+    assert!(c[2] > 1.5 * c[0], "the refit follows the file: {c:?}");
+}

@@ -356,11 +356,23 @@ impl Framebuffer {
     /// depth to 1, depth test `LESS`. The scissor and colour mask are set before the clear,
     /// which they would otherwise clip (egui leaves a scissor behind).
     pub fn begin_pass(&self) {
+        self.begin_pass_scissored(None);
+    }
+
+    fn begin_pass_scissored(&self, band: Option<std::ops::Range<usize>>) {
         self.bind();
         let gl = &self.gl;
         // SAFETY: state changes on the current context.
         unsafe {
-            gl.disable(glow::SCISSOR_TEST);
+            match band {
+                Some(rows) => {
+                    // GL counts rows from the bottom.
+                    let (h, rows) = (self.height(), rows.start.min(self.height())..rows.end.min(self.height()));
+                    gl.enable(glow::SCISSOR_TEST);
+                    gl.scissor(0, (h - rows.end) as i32, self.width() as i32, rows.len() as i32);
+                }
+                None => gl.disable(glow::SCISSOR_TEST),
+            }
             gl.disable(glow::BLEND);
             gl.disable(glow::CULL_FACE);
             gl.color_mask(true, true, true, true);
@@ -371,6 +383,17 @@ impl Framebuffer {
             gl.enable(glow::DEPTH_TEST);
             gl.depth_func(glow::LESS);
         }
+    }
+
+    /// Like [`Framebuffer::begin_pass`], but only rows `rows` (counted from the **top**, as
+    /// images are) are cleared and drawn: the scissor test is left on for the pass. A pixel
+    /// inside the band gets exactly the value a full pass gives it (same viewport, same
+    /// rasterization; the scissor only discards fragments), so an image can be drawn and
+    /// read back band by band with the memory of one band ([`Framebuffer::read_rows`]).
+    /// The scissor stays on after the pass: whoever bands turns it off when done
+    /// (`begin_pass` does too).
+    pub fn begin_band(&self, rows: std::ops::Range<usize>) {
+        self.begin_pass_scissored(Some(rows));
     }
 
     pub fn width(&self) -> usize {
@@ -389,19 +412,28 @@ impl Framebuffer {
     /// Reads the colour buffer back as RGBA floats, row 0 at the **top** (glReadPixels
     /// returns rows bottom-up; they are flipped here).
     pub fn read(&self) -> Result<Vec<[f32; 4]>> {
+        self.read_rows(0..self.height())
+    }
+
+    /// Reads rows `rows` of the colour buffer (counted from the top; clipped to the
+    /// target) as RGBA floats, top row first. Rows are flipped in place: no second copy of
+    /// the pixels is made.
+    pub fn read_rows(&self, rows: std::ops::Range<usize>) -> Result<Vec<[f32; 4]>> {
         let (w, h) = (self.width(), self.height());
-        let mut raw = vec![[0.0f32; 4]; w * h];
+        let rows = rows.start.min(h)..rows.end.min(h);
+        let n = rows.len();
+        let mut out = vec![[0.0f32; 4]; w * n];
         self.bind();
-        // SAFETY: the buffer holds exactly w·h RGBA float texels; PACK_ALIGNMENT 4 divides
-        // the 16-byte texel.
+        // SAFETY: the buffer holds exactly w·n RGBA float texels; PACK_ALIGNMENT 4 divides
+        // the 16-byte texel; the rectangle lies inside the target.
         unsafe {
             self.gl.pixel_store_i32(glow::PACK_ALIGNMENT, 4);
-            let bytes = std::slice::from_raw_parts_mut(raw.as_mut_ptr().cast::<u8>(), w * h * 16);
+            let bytes = std::slice::from_raw_parts_mut(out.as_mut_ptr().cast::<u8>(), w * n * 16);
             self.gl.read_pixels(
                 0,
-                0,
+                (h - rows.end) as i32,
                 w as i32,
-                h as i32,
+                n as i32,
                 glow::RGBA,
                 glow::FLOAT,
                 glow::PixelPackData::Slice(Some(bytes)),
@@ -409,9 +441,9 @@ impl Framebuffer {
         }
         check_error(&self.gl, "read back")?;
         // Flip: GL row 0 is the bottom of the image.
-        let mut out = Vec::with_capacity(w * h);
-        for row in raw.chunks_exact(w).rev() {
-            out.extend_from_slice(row);
+        for j in 0..n / 2 {
+            let (top, bottom) = out.split_at_mut((n - 1 - j) * w);
+            top[j * w..(j + 1) * w].swap_with_slice(&mut bottom[..w]);
         }
         Ok(out)
     }

@@ -1,10 +1,12 @@
 //! Watch mode: refit whenever another program rewrites a painting.
 //!
 //! The file is polled (modification time, size and a hash of its bytes; no platform
-//! notification API, so it works the same on every file system, network ones included). A
-//! painter that writes in place can be caught mid-write: then the file does not decode, the
-//! last good painting stays, and [`Watcher::status`] says why. The next change is tried
-//! again.
+//! notification API, so it works the same on every file system, network ones included). It
+//! is read as `brdfpaint fit` reads a painting: under the file-access policy
+//! ([`crate::fsio`]) and through the one validated decoder ([`crate::images::Painting`]). A
+//! painter that writes in place can be caught mid-write: then the file does not decode (a
+//! JPEG cut short included), the last good painting and material stay, and
+//! [`Watcher::status`] says why. The next change is tried again.
 //!
 //! A painting of another size than the view follows the size rule of `brdfpaint fit`
 //! ([`super::view`]): of the camera's aspect within 1%, the view is rendered again at its size
@@ -78,11 +80,13 @@ impl Watcher {
     /// status when something happened, `None` when the file is unchanged.
     pub fn check(&mut self, session: &mut PaintSession, renderer: &mut Renderer) -> Option<&WatchStatus> {
         self.last_poll = Some(Instant::now());
-        let meta = std::fs::metadata(&self.path);
-        let bytes = match meta.as_ref().map_err(|e| e.to_string()).and_then(|_| std::fs::read(&self.path).map_err(|e| e.to_string())) {
+        let modified = std::fs::metadata(&self.path).ok().and_then(|m| m.modified().ok());
+        // The same file-access policy and size cap as `fit` (a FIFO or a device put at the
+        // path is refused by its type and never blocks the window's thread).
+        let bytes = match crate::fsio::read_regular(&self.path, crate::fsio::MAX_IMAGE_BYTES) {
             Ok(b) => b,
             Err(e) => {
-                let msg = format!("{}: {e}", self.path.display());
+                let msg = e.to_string();
                 if self.status == WatchStatus::Failed(msg.clone()) {
                     return None;
                 }
@@ -93,7 +97,7 @@ impl Watcher {
         };
         let mut h = Fnv::new();
         h.write(&bytes);
-        let stamp = (meta.ok().and_then(|m| m.modified().ok()), bytes.len() as u64, h.finish());
+        let stamp = (modified, bytes.len() as u64, h.finish());
         if self.seen == Some(stamp) {
             return None;
         }
@@ -109,6 +113,8 @@ impl Watcher {
         let Some(view) = session.views.get(self.view) else {
             return Err(Error::input(format!("{}: no view {} to paint", self.path.display(), self.view)));
         };
+        // The validated decoder of every painting (`images::Painting`): a JPEG cut short or
+        // with a damaged scan is an error here, not a grey painting fitted over a good one.
         let painting = Painting::decode(&self.path, bytes)?;
         let (w, h) = (painting.width, painting.height);
         check_painting_size(view, &self.path.display().to_string(), w, h)?;

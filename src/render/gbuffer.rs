@@ -134,65 +134,124 @@ impl GBuffer {
     }
 
     /// Which pixels carry a line: silhouettes (object against background), creases and
-    /// occlusion contours, per `style`.
+    /// occlusion contours, per `style` ([`LineTracer`] over all rows).
     pub fn lines(&self, style: &OutlineStyle) -> Vec<bool> {
-        let (w, h) = (self.width, self.height);
-        let mut line = vec![false; w * h];
-        // Pixels whose line is a silhouette (or the image border), which always stays.
-        let mut outer = vec![false; w * h];
-        let cos_crease = style.crease_angle.cos();
-        // Is there an edge between pixels a and b (4-neighbours)? Returns the pixel on the
-        // object's / near side, and the other one.
-        let edge = |a: usize, b: usize| -> Option<(usize, usize)> {
-            let (pa, pb) = (&self.pixels[a], &self.pixels[b]);
-            match (pa.hit, pb.hit) {
-                (false, false) => None,
-                (true, false) => Some((a, b)),
-                (false, true) => Some((b, a)),
-                (true, true) => {
-                    let crease = pa.face_normal.dot(pb.face_normal) < cos_crease;
-                    let d = pb.position - pa.position;
-                    let dist = d.length();
-                    let off_plane = pa.face_normal.dot(d).abs().max(pb.face_normal.dot(d).abs());
-                    let jump = dist > 0.0 && off_plane > style.depth_jump * dist;
-                    (crease || jump).then_some(if pa.depth <= pb.depth { (a, b) } else { (b, a) })
-                }
-            }
-        };
-        for j in 0..h {
-            for i in 0..w {
-                let a = j * w + i;
-                // Pixels on the image border that see the object close the silhouette.
-                if self.pixels[a].hit && (i == 0 || j == 0 || i + 1 == w || j + 1 == h) {
-                    line[a] = true;
-                    outer[a] = true;
-                }
-                let neighbours = [(i + 1 < w).then(|| a + 1), (j + 1 < h).then(|| a + w)];
-                for b in neighbours.into_iter().flatten() {
-                    if let Some((near, far)) = edge(a, b) {
-                        let silhouette = self.pixels[a].hit != self.pixels[b].hit;
-                        line[near] = true;
-                        outer[near] |= silhouette;
-                        if style.width >= 2 {
-                            line[far] = true;
-                            outer[far] |= silhouette;
-                        }
-                    }
-                }
-            }
-        }
-        drop_short_interior(&mut line, &outer, w, h, (w.max(h) as f32 * SHORT_LINE).round() as usize);
-        let grow = style.width.saturating_sub(2) / 2;
-        if grow > 0 {
-            line = dilate(&line, w, h, grow);
-        }
-        line
+        let mut tracer = LineTracer::new(self.width, self.height, *style);
+        tracer.push(&self.pixels);
+        tracer.finish()
     }
 
     /// The coloring-book page (thesis 4.1): black lines on white, alpha 1.
     pub fn outline(&self, style: &OutlineStyle) -> Image {
         let pixels = self.lines(style).into_iter().map(|l| if l { [0.0, 0.0, 0.0, 1.0] } else { [1.0; 4] }).collect();
         Image { width: self.width, height: self.height, pixels }
+    }
+}
+
+/// Finds the outline's lines ([`GBuffer::lines`]) from the G-buffer's rows given in order,
+/// a band at a time: a line lies between two 4-neighbours, so a row is traced as soon as the
+/// row below it has come. What it keeps is two bitmaps of the image and one row of pixels,
+/// never the whole G-buffer (16 GPixels per line bit): a 4096² sheet's lines need 34 MB,
+/// not 1.7 GB.
+pub struct LineTracer {
+    style: OutlineStyle,
+    cos_crease: f32,
+    width: usize,
+    height: usize,
+    line: Vec<bool>,
+    /// Pixels whose line is a silhouette (or the image border), which always stays.
+    outer: Vec<bool>,
+    /// The last row pushed, not yet traced (it waits for the row below), and its index.
+    pending: Vec<GPixel>,
+    next_row: usize,
+}
+
+impl LineTracer {
+    pub fn new(width: usize, height: usize, style: OutlineStyle) -> LineTracer {
+        let n = width * height;
+        LineTracer { style, cos_crease: style.crease_angle.cos(), width, height, line: vec![false; n], outer: vec![false; n], pending: Vec::new(), next_row: 0 }
+    }
+
+    /// The next whole rows of the G-buffer, top to bottom (rows past the last are ignored).
+    pub fn push(&mut self, rows: &[GPixel]) {
+        let w = self.width;
+        for row in rows.chunks_exact(w) {
+            if self.next_row >= self.height {
+                return;
+            }
+            if self.next_row > 0 {
+                let above = std::mem::take(&mut self.pending);
+                self.trace_row(self.next_row - 1, &above, Some(row));
+                self.pending = above;
+            }
+            self.pending.clear();
+            self.pending.extend_from_slice(row);
+            self.next_row += 1;
+        }
+    }
+
+    /// Traces the last row, drops short interior dashes and widens the lines: the line
+    /// bitmap, row 0 at the top (rows never pushed carry no line).
+    pub fn finish(mut self) -> Vec<bool> {
+        if self.next_row > 0 {
+            let last = std::mem::take(&mut self.pending);
+            self.trace_row(self.next_row - 1, &last, None);
+        }
+        let (w, h) = (self.width, self.height);
+        drop_short_interior(&mut self.line, &self.outer, w, h, (w.max(h) as f32 * SHORT_LINE).round() as usize);
+        let grow = self.style.width.saturating_sub(2) / 2;
+        if grow > 0 {
+            self.line = dilate(&self.line, w, h, grow);
+        }
+        self.line
+    }
+
+    /// The lines of row `j` with its right and lower neighbours (`below`: row `j + 1`).
+    fn trace_row(&mut self, j: usize, row: &[GPixel], below: Option<&[GPixel]>) {
+        let (w, h) = (self.width, self.height);
+        for i in 0..w {
+            let a = j * w + i;
+            // Pixels on the image border that see the object close the silhouette.
+            if row[i].hit && (i == 0 || j == 0 || i + 1 == w || j + 1 == h) {
+                self.line[a] = true;
+                self.outer[a] = true;
+            }
+            if i + 1 < w {
+                self.edge((a, &row[i]), (a + 1, &row[i + 1]));
+            }
+            if let Some(below) = below {
+                self.edge((a, &row[i]), (a + w, &below[i]));
+            }
+        }
+    }
+
+    /// An edge between neighbouring pixels `a` and `b` (silhouette, crease or depth jump)
+    /// puts a line on the pixel on the object's / near side, and with width 2 or more on
+    /// the other one too.
+    fn edge(&mut self, (a, pa): (usize, &GPixel), (b, pb): (usize, &GPixel)) {
+        let style = &self.style;
+        let near_far = match (pa.hit, pb.hit) {
+            (false, false) => None,
+            (true, false) => Some((a, b)),
+            (false, true) => Some((b, a)),
+            (true, true) => {
+                let crease = pa.face_normal.dot(pb.face_normal) < self.cos_crease;
+                let d = pb.position - pa.position;
+                let dist = d.length();
+                let off_plane = pa.face_normal.dot(d).abs().max(pb.face_normal.dot(d).abs());
+                let jump = dist > 0.0 && off_plane > style.depth_jump * dist;
+                (crease || jump).then_some(if pa.depth <= pb.depth { (a, b) } else { (b, a) })
+            }
+        };
+        if let Some((near, far)) = near_far {
+            let silhouette = pa.hit != pb.hit;
+            self.line[near] = true;
+            self.outer[near] |= silhouette;
+            if style.width >= 2 {
+                self.line[far] = true;
+                self.outer[far] |= silhouette;
+            }
+        }
     }
 }
 
@@ -351,6 +410,34 @@ mod tests {
         let g = square(n, n, 48, 51);
         let l = g.lines(&OutlineStyle { width: 1, ..Default::default() });
         assert_eq!(l.iter().filter(|&&x| x).count(), 8);
+    }
+
+    /// The lines traced from bands of any height (1 row, 7 rows, uneven last band) are the
+    /// lines of the whole image; the image has a silhouette, a crease and a depth jump that
+    /// cross band boundaries, and a line width that grows.
+    #[test]
+    fn lines_from_bands_are_the_lines_of_the_whole_image() {
+        let mut g = square(40, 30, 5, 28);
+        for j in 12..30 {
+            for i in 0..40 {
+                let p = &mut g.pixels[j * 40 + i];
+                p.face_normal = Vec3::Y;
+                p.position.z -= if i > 20 { 9.0 } else { 0.0 };
+                p.depth += if i > 20 { 9.0 } else { 0.0 };
+            }
+        }
+        for width in [1, 2, 5] {
+            let style = OutlineStyle { width, ..Default::default() };
+            let whole = g.lines(&style);
+            assert!(whole.iter().filter(|&&l| l).count() > 60, "the test image has lines");
+            for rows in [1, 7, 29] {
+                let mut t = LineTracer::new(40, 30, style);
+                for band in g.pixels.chunks(40 * rows) {
+                    t.push(band);
+                }
+                assert_eq!(t.finish(), whole, "width {width}, bands of {rows} rows");
+            }
+        }
     }
 
     #[test]

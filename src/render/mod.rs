@@ -42,7 +42,7 @@ use glam::Vec3;
 use glow::HasContext;
 
 pub use camera::{LightUniforms, View};
-pub use gbuffer::{GBuffer, GPixel, OutlineStyle};
+pub use gbuffer::{GBuffer, GPixel, LineTracer, OutlineStyle};
 pub use mesh::Mesh;
 pub use orbit::Orbit;
 pub use shading::{check, GpuShading, MAX_FACTORS, MAX_TERMS};
@@ -76,6 +76,12 @@ impl Image {
     /// The pixel at column `i`, row `j`.
     pub fn at(&self, i: usize, j: usize) -> [f32; 4] {
         self.pixels[j * self.width + i]
+    }
+
+    /// The RGB channels (alpha dropped), as [`Rgb`](crate::images::Rgb) for writing PNG or EXR.
+    pub fn to_rgb(&self) -> crate::images::Rgb {
+        let pixels = self.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
+        crate::images::Rgb { width: self.width, height: self.height, pixels }
     }
 }
 
@@ -293,22 +299,98 @@ impl Renderer {
         crate::gl::check_error(&self.gl, "GGX shading")
     }
 
-    /// The G-buffer: six passes of the same geometry, one quantity each.
+    /// The G-buffer: six passes of the same geometry, one quantity each. Drawn and read in
+    /// bands ([`Renderer::gbuffer_bands`]), so besides the result only one band's passes
+    /// are held.
     pub fn gbuffer(&mut self, scene: &GpuScene, width: usize, height: usize) -> Result<GBuffer> {
+        // The size is checked against the target's limits before anything is allocated.
+        Framebuffer::sized(&mut self.target, &self.gl, width, height)?;
+        let mut pixels = Vec::new();
+        pixels.try_reserve_exact(width * height).map_err(|_| too_large("G-buffer", width, height))?;
+        self.gbuffer_bands(scene, width, height, band_rows(width), |_, band| {
+            pixels.extend_from_slice(&band.pixels);
+            Ok(())
+        })?;
+        Ok(GBuffer { width, height, pixels })
+    }
+
+    /// The G-buffer of [`Renderer::gbuffer`] in horizontal bands of at most `rows` rows, top
+    /// to bottom: `each(first_row, band)` gets a `width` × (band height) G-buffer. Each band
+    /// is drawn with the six passes scissored to its rows on the full-size target, so its
+    /// pixels are exactly the full G-buffer's (same viewport and rasterization); a 4096²
+    /// image is then worked through with the memory of one band.
+    pub fn gbuffer_bands(
+        &mut self,
+        scene: &GpuScene,
+        width: usize,
+        height: usize,
+        rows: usize,
+        mut each: impl FnMut(usize, GBuffer) -> Result<()>,
+    ) -> Result<()> {
+        Framebuffer::sized(&mut self.target, &self.gl, width, height)?;
         let view = View::new(&scene.camera, width, height)?;
         let light = LightUniforms::new(&scene.light)?;
-        let mut passes: [Vec<[f32; 4]>; 6] = Default::default();
-        for (k, pass) in passes.iter_mut().enumerate() {
-            self.begin(width, height)?;
-            let p = &self.gbuffer;
+        self.in_bands(height, rows, |r, band| {
+            let mut passes: [Vec<[f32; 4]>; 6] = Default::default();
+            for (k, pass) in passes.iter_mut().enumerate() {
+                r.begin_band(width, height, band.clone())?;
+                let p = &r.gbuffer;
+                p.bind();
+                view.apply(p);
+                light.apply(p);
+                p.set_i32("u_output", k as i32);
+                r.draw_all(p, scene);
+                *pass = r.read_rows(band.clone())?;
+            }
+            each(band.start, gbuffer::assemble(width, band.len(), &passes))
+        })
+    }
+
+    /// The reference image of [`Renderer::reference`] in horizontal bands of at most `rows`
+    /// rows, top to bottom, as [`Renderer::gbuffer_bands`] draws the G-buffer.
+    pub fn reference_bands(
+        &mut self,
+        scene: &GpuScene,
+        style: &ReferenceStyle,
+        width: usize,
+        height: usize,
+        rows: usize,
+        mut each: impl FnMut(usize, Image) -> Result<()>,
+    ) -> Result<()> {
+        Framebuffer::sized(&mut self.target, &self.gl, width, height)?;
+        let view = View::new(&scene.camera, width, height)?;
+        let mut light = LightUniforms::new(&scene.light)?;
+        light.rgb *= style.exposure;
+        self.in_bands(height, rows, |r, band| {
+            r.begin_band(width, height, band.clone())?;
+            let p = &r.reference;
             p.bind();
             view.apply(p);
             light.apply(p);
-            p.set_i32("u_output", k as i32);
-            self.draw_all(p, scene);
-            *pass = self.read()?.pixels;
-        }
-        Ok(gbuffer::assemble(width, height, &passes))
+            p.set_vec3("u_ambient", style.ambient);
+            p.set_vec3("u_diffuse", style.diffuse);
+            p.set_vec3("u_specular", style.specular);
+            p.set_f32("u_shininess", style.shininess);
+            r.draw_all(p, scene);
+            let pixels = r.read_rows(band.clone())?;
+            each(band.start, Image { width, height: band.len(), pixels })
+        })
+    }
+
+    /// Calls `band(self, rows)` for the bands of `rows` rows of an image `height` high, top
+    /// to bottom, and then turns the scissor test off, whatever happened: code that draws
+    /// after (the viewer, the stroke timing) clears and draws the whole target.
+    fn in_bands(
+        &mut self,
+        height: usize,
+        rows: usize,
+        mut band: impl FnMut(&mut Renderer, std::ops::Range<usize>) -> Result<()>,
+    ) -> Result<()> {
+        let rows = rows.max(1);
+        let result = (0..height).step_by(rows).try_for_each(|start| band(self, start..(start + rows).min(height)));
+        // SAFETY: a state change on the current context.
+        unsafe { self.gl.disable(glow::SCISSOR_TEST) };
+        result
     }
 
     /// The coverage mask: 1 where the pixel centre sees the object, else 0 (one pass).
@@ -343,6 +425,19 @@ impl Renderer {
         Ok(())
     }
 
+    /// [`Renderer::begin`], drawing only rows `rows` (from the top) of the target (the
+    /// scissor stays on until [`Renderer::in_bands`] ends).
+    fn begin_band(&mut self, width: usize, height: usize, rows: std::ops::Range<usize>) -> Result<()> {
+        Framebuffer::sized(&mut self.target, &self.gl, width, height)?.begin_band(rows);
+        crate::gl_check!(self.gl, "target setup");
+        Ok(())
+    }
+
+    fn read_rows(&self, rows: std::ops::Range<usize>) -> Result<Vec<[f32; 4]>> {
+        let target = self.target.as_ref().ok_or_else(|| Error::Gl("nothing was rendered".into()))?;
+        target.read_rows(rows)
+    }
+
     fn draw_all(&self, program: &Program, scene: &GpuScene) {
         program.bind();
         for mesh in &scene.meshes {
@@ -354,6 +449,21 @@ impl Renderer {
         let target = self.target.as_ref().ok_or_else(|| Error::Gl("nothing was rendered".into()))?;
         Ok(Image { width: target.width(), height: target.height(), pixels: target.read()? })
     }
+}
+
+/// Pixels in one band of a banded pass: 2^18 (64 rows of a 4096-wide image, 16 MiB of
+/// RGBA floats per pass). Images of up to 512² are one band: one draw per pass, as before
+/// bands; larger ones trade a few more draws (vertex work only: the scissor limits the
+/// fragments) for memory that does not grow with the image.
+pub const BAND_PIXELS: usize = 1 << 18;
+
+/// Rows in one band of a `width`-wide banded pass ([`BAND_PIXELS`]).
+pub fn band_rows(width: usize) -> usize {
+    (BAND_PIXELS / width.max(1)).max(1)
+}
+
+fn too_large(what: &str, width: usize, height: usize) -> Error {
+    Error::input(format!("not enough memory for a {width}x{height} {what}"))
 }
 
 /// A program of the shared vertex stage and a fragment stage that uses `surface()` (and the

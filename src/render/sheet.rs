@@ -17,9 +17,9 @@
 
 use std::path::Path;
 
-use super::{GBuffer, GpuScene, Image, OutlineStyle, ReferenceStyle, Renderer};
+use super::{band_rows, GBuffer, GpuScene, LineTracer, OutlineStyle, ReferenceStyle, Renderer};
 use crate::error::{Error, Result};
-use crate::images::Rgb;
+use crate::images::encode_srgb8;
 use crate::scene::{Light, Scene};
 
 /// The files of a sheet directory, in the order they are written.
@@ -28,26 +28,24 @@ pub const SHEET_FILES: [&str; 4] = ["outline.png", "reference.png", "mask.png", 
 /// with the others; a sheet written before it existed lacks it.
 pub const PAGE_FILE: &str = "page.png";
 
-/// The images of a sheet, linear RGBA, row 0 at the top.
-#[derive(Clone, Debug)]
+/// The pictures of a sheet, kept as what their files hold (bits and 8-bit codes), row 0 at
+/// the top. A 4096² sheet is 84 MB here; its G-buffer, 1.7 GB, is never held whole (it is
+/// drawn and used in bands, [`Sheet::render`]).
+#[derive(Clone, Debug, PartialEq)]
 pub struct Sheet {
-    pub outline: Image,
-    pub reference: Image,
-    pub mask: Image,
+    pub width: usize,
+    pub height: usize,
+    /// Per pixel: the pixel centre sees the object (white in `mask.png`).
+    pub hit: Vec<bool>,
     /// Per pixel: an outline passes here (the lines of `outline.png` and `page.png`).
     pub lines: Vec<bool>,
+    /// `reference.png`'s pixels: 8-bit sRGB, R, G, B per pixel.
+    pub reference: Vec<u8>,
     /// The factor [`ReferenceStyle::exposure`] the reference was drawn with
     /// ([`reference_exposure`]).
     pub exposure: f32,
     /// Pixels whose centre sees the object.
     pub coverage: usize,
-}
-
-impl Image {
-    /// The RGB channels (alpha dropped), as [`Rgb`] for writing PNG or EXR.
-    pub fn to_rgb(&self) -> Rgb {
-        Rgb { width: self.width, height: self.height, pixels: self.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect() }
-    }
 }
 
 /// The exposure that maps the brightest light reaching the visible object to 1:
@@ -58,33 +56,71 @@ impl Image {
 /// A white directional light of intensity 1 gets exposure 1. Returns 1 when no pixel sees the
 /// object or the light is black.
 pub fn reference_exposure(g: &GBuffer, light: &Light) -> f32 {
-    let (Light::Directional { color, intensity, .. } | Light::Point { color, intensity, .. }) = *light;
-    let peak = (color * intensity).max_element();
-    let brightest = g.pixels.iter().filter(|p| p.hit).map(|p| p.falloff * peak).fold(0.0f32, f32::max);
-    if brightest > 0.0 && brightest.is_finite() && (1.0 / brightest).is_finite() {
-        1.0 / brightest
-    } else {
-        1.0
+    let mut brightest = Brightest::new(light);
+    brightest.add(g);
+    brightest.exposure()
+}
+
+/// The running maximum of [`reference_exposure`] over the bands of a G-buffer.
+struct Brightest {
+    peak: f32,
+    max: f32,
+}
+
+impl Brightest {
+    fn new(light: &Light) -> Brightest {
+        let (Light::Directional { color, intensity, .. } | Light::Point { color, intensity, .. }) = *light;
+        Brightest { peak: (color * intensity).max_element(), max: 0.0 }
+    }
+
+    fn add(&mut self, g: &GBuffer) {
+        self.max = g.pixels.iter().filter(|p| p.hit).map(|p| p.falloff * self.peak).fold(self.max, f32::max);
+    }
+
+    fn exposure(&self) -> f32 {
+        let b = self.max;
+        if b > 0.0 && b.is_finite() && (1.0 / b).is_finite() {
+            1.0 / b
+        } else {
+            1.0
+        }
     }
 }
 
 impl Sheet {
-    /// Draws the sheet of `scene` at `width` × `height`: one G-buffer (outline and mask come
-    /// from it) and the reference at [`reference_exposure`].
+    /// Draws the sheet of `scene` at `width` × `height`: the G-buffer (outline and mask come
+    /// from it), then the reference at [`reference_exposure`], each in bands of
+    /// [`band_rows`] rows.
     pub fn render(renderer: &mut Renderer, scene: &Scene, width: usize, height: usize) -> Result<Sheet> {
+        Sheet::render_in_bands(renderer, scene, width, height, band_rows(width))
+    }
+
+    /// [`Sheet::render`] in bands of `rows` rows. Memory is the sheet's pictures plus one
+    /// band's G-buffer: each band is used (mask bits, lines, brightest pixel) and dropped.
+    /// Any band height gives the same sheet (the bands are exact: [`Renderer::gbuffer_bands`]).
+    pub fn render_in_bands(renderer: &mut Renderer, scene: &Scene, width: usize, height: usize, rows: usize) -> Result<Sheet> {
+        // The size is checked against the renderer's limits before anything is allocated.
+        renderer.begin(width, height)?;
         let gpu = GpuScene::upload(renderer.gl(), scene)?;
-        let g = renderer.gbuffer(&gpu, width, height)?;
-        let exposure = reference_exposure(&g, &scene.light);
+        let n = width * height;
+        let mut hit = Vec::with_capacity(n);
+        let mut tracer = LineTracer::new(width, height, OutlineStyle::default());
+        let mut brightest = Brightest::new(&scene.light);
+        renderer.gbuffer_bands(&gpu, width, height, rows, |_, band| {
+            hit.extend(band.pixels.iter().map(|p| p.hit));
+            brightest.add(&band);
+            tracer.push(&band.pixels);
+            Ok(())
+        })?;
+        let exposure = brightest.exposure();
         let style = ReferenceStyle { exposure, ..ReferenceStyle::default() };
-        let reference = renderer.reference(&gpu, &style, width, height)?;
-        Ok(Sheet {
-            outline: g.outline(&OutlineStyle::default()),
-            lines: g.lines(&OutlineStyle::default()),
-            reference,
-            mask: g.mask(),
-            exposure,
-            coverage: g.coverage(),
-        })
+        let mut reference = Vec::with_capacity(3 * n);
+        renderer.reference_bands(&gpu, &style, width, height, rows, |_, band| {
+            reference.extend(band.pixels.iter().flat_map(|p| [p[0], p[1], p[2]].map(encode_srgb8)));
+            Ok(())
+        })?;
+        let coverage = hit.iter().filter(|&&h| h).count();
+        Ok(Sheet { width, height, hit, lines: tracer.finish(), reference, exposure, coverage })
     }
 
     /// Writes the sheet and `scene` into `dir` ([`SHEET_FILES`]). Everything is written into
@@ -100,23 +136,30 @@ impl Sheet {
         staged.commit()
     }
 
+    /// The files, one picture at a time: each one's 8-bit pixels are made, encoded and
+    /// dropped before the next (a 4096² RGB picture is 50 MB).
     fn write_into(&self, scene: &Scene, dir: &Path) -> Result<()> {
-        self.outline.to_rgb().write_png(&dir.join(SHEET_FILES[0]))?;
-        self.reference.to_rgb().write_png(&dir.join(SHEET_FILES[1]))?;
-        self.mask.to_rgb().write_png(&dir.join(SHEET_FILES[2]))?;
+        let rgb = |bit: &[bool], on: u8, off: u8| -> Vec<u8> { bit.iter().flat_map(|&b| [if b { on } else { off }; 3]).collect() };
+        // outline.png: black lines on white.
+        self.write_png(&dir.join(SHEET_FILES[0]), image::ColorType::Rgb8, &rgb(&self.lines, 0, 255))?;
+        self.write_png(&dir.join(SHEET_FILES[1]), image::ColorType::Rgb8, &self.reference)?;
+        // mask.png: white where the object is seen.
+        self.write_png(&dir.join(SHEET_FILES[2]), image::ColorType::Rgb8, &rgb(&self.hit, 255, 0))?;
         scene.write_gltf(dir.join(SHEET_FILES[3]))?;
-        self.write_page(&dir.join(PAGE_FILE))
+        // page.png: 8-bit RGBA, black and opaque on the lines, transparent elsewhere, so a
+        // painting program opens it as a layer of lines over nothing.
+        let page: Vec<u8> = self.lines.iter().flat_map(|&l| [0, 0, 0, if l { 255 } else { 0 }]).collect();
+        self.write_png(&dir.join(PAGE_FILE), image::ColorType::Rgba8, &page)
     }
 
-    /// `page.png`: 8-bit RGBA, black and opaque on the lines, transparent elsewhere, so a
-    /// painting program opens it as a layer of lines over nothing.
-    fn write_page(&self, path: &Path) -> Result<()> {
-        let (w, h) = (self.outline.width, self.outline.height);
-        let bytes: Vec<u8> = self.lines.iter().flat_map(|&l| if l { [0, 0, 0, 255] } else { [0, 0, 0, 0] }).collect();
-        let img = image::RgbaImage::from_raw(w as u32, h as u32, bytes).ok_or_else(|| Error::format(path, "page size mismatch"))?;
-        let mut out = std::io::Cursor::new(Vec::new());
-        img.write_to(&mut out, image::ImageFormat::Png).map_err(|e| Error::format(path, e.to_string()))?;
-        crate::commit::write_atomic(path, out.get_ref())
+    /// Encodes 8-bit `pixels` of this sheet's size as a PNG at `path`, atomically.
+    fn write_png(&self, path: &Path, color: image::ColorType, pixels: &[u8]) -> Result<()> {
+        use image::ImageEncoder;
+        let mut out = Vec::new();
+        image::codecs::png::PngEncoder::new(&mut out)
+            .write_image(pixels, self.width as u32, self.height as u32, color.into())
+            .map_err(|e| Error::format(path, e.to_string()))?;
+        crate::commit::write_atomic(path, &out)
     }
 }
 
