@@ -74,8 +74,8 @@ impl Turn {
     }
 }
 
-/// World-space direction of a local one at a G-buffer pixel (its frame: tangent, bitangent
-/// $= \mathrm{sign}\,(n \times t)$, normal; shaders/surface.glsl).
+/// The local frame of a G-buffer pixel in world space: tangent, bitangent
+/// $= \mathrm{sign}\,(n \times t)$, normal (shaders/surface.glsl), the axes of its queries.
 fn frame(g: &GBuffer, k: usize) -> [DVec3; 3] {
     let p = &g.pixels[k];
     let n = p.normal.as_dvec3();
