@@ -1,22 +1,27 @@
 // One term of a factored material under an HDR environment, plus the key light:
 //
-//   $L_o(v) = c(uv) \big[ \int_{S^2} f(l, v, uv)\, L_{env}(l)\, d\omega_l
+//   $L_o(v) = c(uv) \big[ \int_{H^2} f(l, v, uv)\, L_{env}(l)\, d\omega_l
 //             + f(l_key, v, uv)\, E_{key} \big]$
 //
-// where f is term.glsl's mapped product. S = BRDF x cos(theta_l) already, so the
-// environment is exactly a sum of directional lights: the integral runs over the whole
-// sphere, with the same S a key light sees (paintings have an unlit side, so S below the
-// horizon is what the artist painted there, and the point-light render is the limit of an
-// environment that is one small bright spot).
+// where f is term.glsl's mapped product and $H^2$ the hemisphere above the shading normal.
+// S = BRDF x cos(theta_l) already, so above the horizon the environment is a sum of
+// directional lights with the same S a key light sees (a material lit by one small bright
+// spot looks as under a point light there). Below the horizon the surface itself hides the
+// environment: what a painting shows on its unlit side (a Gooch blue) is how the artist
+// painted the absence of the key light, and adding it from every direction below the
+// horizon would wash every painted material out to a flat tint.
 //
 // Estimator. Multi-sample importance sampling with the balance heuristic (Veach 1997,
 // sec. 9.2): ENV_SAMPLES fixed directions in four strategies, n_k of strategy k, each
 // weighted by $1 / \sum_k n_k p_k(l)$:
-//   uniform over the sphere (ENV_UNIFORM; the unlit side, and the guarantee that the
-//     mixture density is positive everywhere, so the estimator is unbiased);
+//   uniform over the hemisphere (ENV_UNIFORM; the guarantee that the mixture density is
+//     positive over the whole domain, grazing directions included, so the estimator is
+//     unbiased and bounded where S does not vanish at the horizon);
 //   cosine around the normal (ENV_COSINE; diffuse terms);
 //   Phong lobes $\cos^k$ around the mirror direction of v, k = LOBE_WIDE and LOBE_NARROW
-//     (ENV_WIDE, ENV_NARROW; glossy terms, roughly GGX alpha 0.3 and 0.06).
+//     (ENV_WIDE, ENV_NARROW; glossy terms, roughly GGX alpha 0.3 and 0.06). A lobe
+//     sample below the horizon adds nothing but still counts in the mixture, as the
+//     balance heuristic needs.
 // The directions are a Hammersley set per strategy, the same at every pixel: the error is
 // a smooth bias, not noise, and a still image never flickers.
 //
@@ -51,8 +56,8 @@ vec2 hammersley(int i, int n) {
     return vec2((float(i) + 0.5) / float(n), radical_inverse(uint(i)));
 }
 
-vec3 uniform_sphere(vec2 xi) {
-    float z = 1.0 - 2.0 * xi.x;
+vec3 uniform_hemisphere(vec2 xi) {
+    float z = xi.x;
     float r = sqrt(max(1.0 - z * z, 0.0));
     float phi = 2.0 * ENV_PI * xi.y;
     return vec3(r * cos(phi), r * sin(phi), z);
@@ -84,7 +89,7 @@ vec3 phong_lobe(vec2 xi, vec3 a, float k) {
 float mixture_density(vec3 l, vec3 r) {
     float c = max(l.z, 0.0);
     float a = max(dot(l, r), 0.0);
-    return float(ENV_UNIFORM) / (4.0 * ENV_PI)
+    return float(ENV_UNIFORM) / (2.0 * ENV_PI)
         + float(ENV_COSINE) * c / ENV_PI
         + float(ENV_WIDE) * (LOBE_WIDE + 1.0) / (2.0 * ENV_PI) * pow(a, LOBE_WIDE)
         + float(ENV_NARROW) * (LOBE_NARROW + 1.0) / (2.0 * ENV_PI) * pow(a, LOBE_NARROW);
@@ -98,7 +103,7 @@ void main() {
     for (int i = 0; i < ENV_SAMPLES; ++i) {
         vec3 l;
         if (i < ENV_UNIFORM) {
-            l = uniform_sphere(hammersley(i, ENV_UNIFORM));
+            l = uniform_hemisphere(hammersley(i, ENV_UNIFORM));
         } else if (i < ENV_UNIFORM + ENV_COSINE) {
             l = cosine_hemisphere(hammersley(i - ENV_UNIFORM, ENV_COSINE));
         } else if (i < ENV_UNIFORM + ENV_COSINE + ENV_WIDE) {
@@ -106,6 +111,7 @@ void main() {
         } else {
             l = phong_lobe(hammersley(i - ENV_UNIFORM - ENV_COSINE - ENV_WIDE, ENV_NARROW), r, LOBE_NARROW);
         }
+        if (l.z <= 0.0) continue;
         float density = mixture_density(l, r);
         // The sample as a light direction: the same Surface, another l (and h).
         Surface q = s;

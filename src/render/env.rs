@@ -2,15 +2,17 @@
 //!
 //! The outgoing radiance of a factored material under an environment $L_{env}$ is
 //!
-//! $$ L_o(v, uv) = \int_{S^2} S(l, v, uv)\, L_{env}(l)\, d\omega_l \;+\; S(l_{key}, v, uv)\, E_{key} $$
+//! $$ L_o(v, uv) = \int_{H^2} S(l, v, uv)\, L_{env}(l)\, d\omega_l \;+\; S(l_{key}, v, uv)\, E_{key} $$
 //!
-//! with the material's own $S = f_r \cos\theta_l$ (DESIGN.md): an environment is a sum of
-//! directional lights, so the integral runs over the whole sphere, and a material lit by an
-//! environment that is one small bright spot looks as it does under a point light.
+//! with the material's own $S = f_r \cos\theta_l$ (DESIGN.md) over the hemisphere $H^2$
+//! above the shading normal: there an environment is a sum of directional lights, and a
+//! material lit by one small bright spot looks as it does under a point light. Below the
+//! horizon the surface hides the environment (a painting's unlit side is how the artist
+//! painted the key light's absence; `shaders/env.frag` says more).
 //!
 //! # Method, and its error
 //! `shaders/env.frag` estimates the integral with a fixed set of [`Lighting::samples`]
-//! directions per pixel, in four strategies (uniform sphere, cosine, two Phong lobes around
+//! directions per pixel, in four strategies (uniform hemisphere, cosine, two Phong lobes around
 //! the mirror direction) combined with the balance heuristic (Veach 1997, 9.2), and reads
 //! the environment with filtered importance sampling (Colbert and Křivánek 2007): each
 //! sample reads the mip level whose texels cover the solid angle the sample stands for.
