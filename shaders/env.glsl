@@ -25,9 +25,14 @@ vec3 env_radiance(vec3 d, float lod) {
     return textureLod(u_env, env_uv(d), lod).rgb;
 }
 
-// Solid angle of a level-0 texel seen in direction d: $(2\pi/W)(\pi/H)\sin\theta$.
-float env_texel_solid_angle(vec3 d) {
-    float sin_theta = sqrt(max(1.0 - d.y * d.y, 0.0));
-    // At the poles a texel row still covers a sliver; 1e-3 keeps the log finite.
-    return 2.0 * ENV_PI * ENV_PI / (u_env_size.x * u_env_size.y) * max(sin_theta, 1e-3);
+// Solid angle of a level-0 texel at the equator, $(2\pi/W)(\pi/H)$: the footprint that
+// filtered importance sampling compares a sample's solid angle with. Not the texel's true
+// solid angle $\propto \sin\theta$: near the poles that is tiny, the level it picks huge,
+// and a box-filtered mip level is as tall there as anywhere, so a sample near the zenith
+// would read the average of a whole cap of the sky (seen as a dark or bright blotch on
+// the tops of objects). The equator's footprint keeps the blur in $\theta$ right
+// everywhere; near the poles the azimuth is filtered less than ideal, over a sliver of
+// solid angle.
+float env_texel_solid_angle() {
+    return 2.0 * ENV_PI * ENV_PI / (u_env_size.x * u_env_size.y);
 }

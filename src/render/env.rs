@@ -42,9 +42,10 @@ use crate::error::{Error, Result};
 use crate::gl::{header, Gl, Program, Texture2D, VertexArray};
 use crate::images::env::Environment;
 
-/// Samples per pixel by default: 32 keep a 512² frame of a three-factor material near
-/// 0.1 s on llvmpipe (BENCHMARKS.md) and within the tests' tolerance.
-pub const DEFAULT_SAMPLES: usize = 32;
+/// Directions per pixel by default: with 64 the error against a Monte-Carlo reference
+/// stays within tests/env_render.rs's stated tolerance (32 doubled its worst pixels).
+/// A real-time view on a GPU affords it; on llvmpipe it costs seconds (BENCHMARKS.md).
+pub const DEFAULT_SAMPLES: usize = 64;
 /// Sample counts accepted (each strategy gets at least one sample from 8 on).
 pub const SAMPLES: std::ops::RangeInclusive<usize> = 8..=1024;
 
