@@ -45,7 +45,13 @@ impl Environment {
     /// negative or overflowing pixel.
     pub fn load(path: &Path) -> Result<Environment> {
         let bytes = crate::fsio::read_regular(path, crate::fsio::MAX_IMAGE_BYTES)?;
-        let format = match image::guess_format(&bytes) {
+        Environment::decode(path, &bytes)
+    }
+
+    /// Decodes the bytes of an OpenEXR or Radiance `.hdr` file, as [`Environment::load`];
+    /// errors name `path`.
+    pub fn decode(path: &Path, bytes: &[u8]) -> Result<Environment> {
+        let format = match image::guess_format(bytes) {
             Ok(f @ (ImageFormat::OpenExr | ImageFormat::Hdr)) => f,
             Ok(other) => {
                 return Err(Error::format(
@@ -57,7 +63,7 @@ impl Environment {
                 return Err(Error::format(path, "not an HDR environment (expected OpenEXR or Radiance .hdr)"));
             }
         };
-        let img = super::decode_limited(path, &bytes, format)?.into_rgb32f();
+        let img = super::decode_limited(path, bytes, format)?.into_rgb32f();
         let (width, height) = (img.width() as usize, img.height() as usize);
         let pixels = img.pixels().map(|p| p.0).collect();
         Environment::new(width, height, pixels).map_err(|e| Error::format(path, e.to_string()))
@@ -122,6 +128,22 @@ impl Environment {
     }
 }
 
+/// The environments bundled with the tool (`assets/hdri/`, CC0, README there): name and
+/// file bytes. The demo renders its materials under them.
+pub const BUNDLED: [(&str, &[u8]); 2] = [
+    ("city", include_bytes!("../../assets/hdri/city.exr")),
+    ("sunset", include_bytes!("../../assets/hdri/sunset.exr")),
+];
+
+/// A bundled environment by name ([`BUNDLED`]).
+pub fn bundled(name: &str) -> Result<Environment> {
+    let (name, bytes) = BUNDLED
+        .iter()
+        .find(|(n, _)| *n == name)
+        .ok_or_else(|| Error::input(format!("no bundled environment '{name}' (city, sunset)")))?;
+    Environment::decode(Path::new(&format!("assets/hdri/{name}.exr")), bytes)
+}
+
 /// Unit direction to equirectangular coordinates $(u, v) \in [0, 1)\times[0, 1]$
 /// (module docs): $u = \mathrm{atan2}(d_x, -d_z)/2\pi + \tfrac12$, $v = \arccos(d_y)/\pi$.
 pub fn direction_to_uv(d: DVec3) -> (f64, f64) {
@@ -168,6 +190,16 @@ mod tests {
         // Rotating by 90 degrees reads two columns further on.
         let r = env.radiance(d, 90.0);
         assert!((r[0] - 5.0).abs() < 1e-9, "{r:?}");
+    }
+
+    #[test]
+    fn bundled_environments_decode() {
+        for (name, _) in BUNDLED {
+            let env = bundled(name).unwrap();
+            assert_eq!((env.width, env.height), (512, 256), "{name}");
+            assert!(env.pixels.iter().flatten().all(|x| x.is_finite() && *x >= 0.0), "{name}");
+        }
+        assert!(bundled("moon").is_err());
     }
 
     #[test]
