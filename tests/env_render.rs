@@ -126,7 +126,7 @@ fn compare(material: &Material, camera: DVec3, rotate_deg: f32, samples: usize, 
             // Pixels whose shading normal turns from the camera (silhouette) are skipped:
             // there the hemisphere is mostly behind the surface and both estimates are ~0.
             let Some(q) = px.query().filter(|q| q.v.z > 0.05) else { continue };
-            let want = reference(material, &env, rotate_deg as f64, &q, frame(&px), 96, (j * RES + i) as u64);
+            let want = reference(material, &env, rotate_deg as f64, &q, frame(px), 96, (j * RES + i) as u64);
             cases.push(((i, j), image.at(i, j), want, q));
         }
     }
@@ -291,7 +291,7 @@ fn furnace_energy_conserving_material_never_exceeds_one() {
             assert!(got[0] <= 1.0, "pixel ({i}, {j}): {got:?} exceeds 1 in the furnace");
             brightest = brightest.max(got[0]);
             if (i * 7 + j) % 11 == 0 && px.v.z > 0.05 {
-                let want = albedo(&material, &px);
+                let want = albedo(&material, px);
                 worst = worst.max((got[0] as f64 - want).abs());
                 assert!((got[0] as f64 - want).abs() < FURNACE_TOL, "pixel ({i}, {j}): {} vs albedo {want}", got[0]);
             }
