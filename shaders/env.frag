@@ -19,7 +19,8 @@
 //     unbiased and bounded where S does not vanish at the horizon);
 //   cosine around the normal (ENV_COSINE; diffuse terms);
 //   Phong lobes $\cos^k$ around the mirror direction of v, k = LOBE_WIDE and LOBE_NARROW
-//     (ENV_WIDE, ENV_NARROW; glossy terms, roughly GGX alpha 0.3 and 0.06). A lobe
+//     (ENV_WIDE, ENV_NARROW; glossy terms, roughly GGX alpha 0.4 and 0.16 by $\alpha = \sqrt{2/(k+2)}$; sharper
+//     painted highlights are still found, at more cost in error). A lobe
 //     sample below the horizon adds nothing but still counts in the mixture, as the
 //     balance heuristic needs.
 // The directions are a Hammersley set per strategy, the same at every pixel: the error is
