@@ -124,8 +124,9 @@ pub(super) struct RenderArgs {
     material: PathBuf,
     #[command(flatten)]
     scene: SceneArgs,
-    /// Output image: .png (sRGB, 8-bit, clamped to [0, 1]) or .exr (linear float). Background
-    /// black. With a sequence option, frames are R-000.png, R-001.png, ...
+    /// Output image: .png (sRGB, 8-bit, tone mapped into [0, 1]: --tonemap) or .exr (linear
+    /// float). Background: --background. With a sequence option, frames are R-000.png,
+    /// R-001.png, ...
     #[arg(long, value_name = "R.png|R.exr")]
     out: PathBuf,
     /// N frames with the camera orbiting the model's vertical axis (the light stays).
