@@ -2,7 +2,9 @@
 //! linear; the sRGB transfer function is applied only at the file boundary (DESIGN.md,
 //! Colour).
 
+pub mod env;
 pub mod text;
+pub mod tone;
 
 use std::io::Cursor;
 use std::path::Path;

@@ -80,13 +80,22 @@ fn bench_json_has_the_documented_fields() {
     // Table 5.1: 4 resolutions x (3-factor, 4-factor); Table 5.2: 2 x 3 sample counts + 4;
     // the 256² four-factor product at two sample counts; Table 5.3: 4 term counts x 2
     // resolutions x 2 fits; Table 5.4: 5 term counts x 2 fits + the four-factor product; GL:
-    // factored (1D, 2D) against GGX at 512² and 1024²; the live-paint stroke -> frame case.
-    assert_eq!(cases.len(), 52);
+    // factored (1D, 2D) against GGX at 512² and 1024²; environments: preparation of the two
+    // bundled ones and 3 frame cases; the live-paint stroke -> frame case.
+    assert_eq!(cases.len(), 57);
     let name = |c: &&serde_json::Value| c["case"].as_str().unwrap().to_string();
     let (maps, rest): (Vec<_>, Vec<_>) = cases.iter().partition(|c| name(c).starts_with("table5.3"));
     let (fidelity, rest): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("table5.4"));
     let (factor, rest): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("table") || name(c).contains("uv=256"));
-    let (live, gl): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("live paint"));
+    let (live, rest): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("live paint"));
+    let (env, gl): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("env prepare") || name(c).starts_with("gl env"));
+    assert_eq!(env.len(), 5);
+    for c in &env {
+        // Preparation cases carry prepare_s; frame cases time_s and the ratio to the point light.
+        let prepared = c["prepare_s"].as_f64().is_some_and(|t| t > 0.0);
+        let framed = c["time_s"].as_f64().is_some_and(|t| t > 0.0) && c["ratio"].as_f64().is_some_and(|r| r > 1.0);
+        assert!(prepared || framed, "{c}");
+    }
     assert_eq!(gl.len(), 4);
     assert_eq!(live.len(), 1);
     assert_eq!(factor.len(), 20);

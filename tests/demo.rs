@@ -101,7 +101,16 @@ fn writes_every_file_at_its_size() {
                 "{model}"
             );
         }
+        // Under the bundled environments: square renders, one per environment.
+        for (env, _) in brdfpaint::images::env::BUNDLED {
+            let (w, h) = png_size(&d.join("renders").join(format!("{}-{env}.png", spec.name)));
+            assert!(w == h && w >= 64, "{}-{env}.png is {w}x{h}", spec.name);
+        }
     }
+    // environments.png: a row per environment, a column per material, square cells.
+    let (w, h) = png_size(&d.join("environments.png"));
+    let (rows, cols) = (brdfpaint::images::env::BUNDLED.len() as u32, paintings::materials().len() as u32);
+    assert_eq!(w * rows, h * cols, "environments.png is {w}x{h}");
     let summary = std::fs::read_to_string(d.join("summary.txt")).unwrap();
     assert_eq!(summary, runs().second.stdout, "summary.txt is what the second run printed");
     assert!(summary.starts_with(brdfpaint::demo::MARK));

@@ -14,6 +14,13 @@ pub(super) fn run(json: bool, quick: bool) -> Result<()> {
             None
         }
     };
+    let env = match brdfpaint::study::bench::env_cases(quick) {
+        Ok(c) => Some(c),
+        Err(e) => {
+            eprintln!("warning: environment cases skipped: {e}");
+            None
+        }
+    };
     let live = match brdfpaint::study::bench::live_paint_case(quick) {
         Ok(c) => Some(c),
         Err(e) => {
@@ -25,6 +32,7 @@ pub(super) fn run(json: bool, quick: bool) -> Result<()> {
         if let Some((gl_cases, _)) = &gl {
             cases.extend(gl_cases.iter().cloned());
         }
+        cases.extend(env.iter().flatten().cloned());
         cases.extend(live.clone());
         cases.extend(fidelity);
         println!("{}", serde_json::to_string_pretty(&cases).map_err(|e| Error::input(e.to_string()))?);
@@ -38,6 +46,11 @@ pub(super) fn run(json: bool, quick: bool) -> Result<()> {
             println!();
             print!("{}", brdfpaint::study::bench::gl_table(gl_cases));
             println!("median frame times (clear, draw, glFinish), factored and GGX interleaved, on {device}");
+        }
+        if let Some(env) = &env {
+            println!();
+            print!("{}", brdfpaint::study::bench::env_table(env));
+            println!("environment: median frames (clear, draw, glFinish) with the key light and the background, interleaved with the point-light frame");
         }
         if let Some(c) = &live {
             println!();

@@ -101,7 +101,7 @@ pub fn run() -> ExitCode {
     let result = match cli.command {
         Command::Demo(args) => demo::run(args).map_err(Failure::from),
         Command::Fit(args) => fit::run(*args),
-        Command::Render(args) => render::run(args).map_err(Failure::from),
+        Command::Render(args) => render::run(args),
         Command::Sheet(args) => sheet::run(args).map_err(Failure::from),
         Command::Bench { json, quick } => bench::run(json, quick).map_err(Failure::from),
         #[cfg(feature = "viewer")]

@@ -3,12 +3,20 @@
 
 use std::path::{Path, PathBuf};
 
+use glam::Vec3;
+
 use brdfpaint::error::{Error, Result};
 use brdfpaint::gl::{HeadlessContext, Limits};
+use brdfpaint::images::env::Environment;
+use brdfpaint::images::tone::{exposure_scale, Tonemap};
+use brdfpaint::images::{srgb_to_linear, Rgb};
 use brdfpaint::material::Material;
+use brdfpaint::render::env::{DEFAULT_SAMPLES, SAMPLES};
 use brdfpaint::render::orbit::{orbit_centre, orbit_frame};
-use brdfpaint::render::{GpuScene, Orbit, Renderer};
+use brdfpaint::render::{Background, GpuEnvironment, GpuScene, Image, Lighting, Orbit, Renderer};
 use brdfpaint::scene::{self, Projection, Scene, UvRule};
+
+use super::Failure;
 
 /// Default image height (and width, unless a scene's camera sets the aspect).
 const DEFAULT_SIDE: usize = 512;
@@ -18,6 +26,8 @@ pub(super) const MAX_SIDE: usize = 16384;
 const MAX_FRAMES: usize = 10_000;
 /// Allowed disagreement of the camera's aspectRatio with W/H (DESIGN.md, Conventions).
 const ASPECT_TOLERANCE: f32 = 0.01;
+/// Largest exposure, in stops either way (2^64 is far past any radiance a file holds).
+const MAX_EV: f32 = 64.0;
 
 /// Where the scene comes from: a glTF scene, or a model framed by a preset.
 #[derive(clap::Args)]
@@ -114,8 +124,9 @@ pub(super) struct RenderArgs {
     material: PathBuf,
     #[command(flatten)]
     scene: SceneArgs,
-    /// Output image: .png (sRGB, 8-bit, clamped to [0, 1]) or .exr (linear float). Background
-    /// black. With a sequence option, frames are R-000.png, R-001.png, ...
+    /// Output image: .png (sRGB, 8-bit, tone mapped into [0, 1]: --tonemap) or .exr (linear
+    /// float). Background: --background. With a sequence option, frames are R-000.png,
+    /// R-001.png, ...
     #[arg(long, value_name = "R.png|R.exr")]
     out: PathBuf,
     /// N frames with the camera orbiting the model's vertical axis (the light stays).
@@ -128,6 +139,65 @@ pub(super) struct RenderArgs {
     /// mesh, spherical or box. Spatially varying materials need them.
     #[arg(long, value_name = "RULE", default_value = "auto")]
     uv: UvRule,
+    /// Light the material with an HDR environment: an equirectangular (2:1) OpenEXR or
+    /// Radiance .hdr, row 0 at the zenith (+y), the centre column looking along -z. The
+    /// scene's light stays as the key light (--key-light).
+    #[arg(long, value_name = "E.exr|E.hdr")]
+    env: Option<PathBuf>,
+    /// Turn the environment about the vertical (+y) axis by DEG degrees, counter-clockwise
+    /// seen from above.
+    #[arg(long, value_name = "DEG", requires = "env", allow_hyphen_values = true)]
+    env_rotate: Option<f32>,
+    /// Environment directions sampled per pixel, 8 to 1024 (default 32).
+    #[arg(long, value_name = "N", requires = "env")]
+    env_samples: Option<usize>,
+    /// With --env, keep the scene's light as a key light beside the environment (on, the
+    /// default) or drop it (off).
+    #[arg(long, value_name = "on|off", requires = "env", value_parser = ["on", "off"])]
+    key_light: Option<String>,
+    /// Exposure in stops: the image is scaled by 2^EV (PNG and EXR; default 0).
+    #[arg(long, value_name = "EV", allow_hyphen_values = true)]
+    exposure: Option<f32>,
+    /// Tone mapping of a PNG: neutral (Khronos PBR Neutral), aces, or none (clamp). Default
+    /// neutral with --env; none without, so a material rendered in the scene it was
+    /// painted in reproduces the painting. An EXR stays linear and is never tone mapped.
+    #[arg(long, value_name = "NAME", value_parser = Tonemap::NAMES)]
+    tonemap: Option<String>,
+    /// Behind the object: env (the environment, default with --env), black (default
+    /// without), or a colour as #rrggbb (sRGB) or R,G,B (linear floats).
+    #[arg(long, value_name = "env|black|COLOR")]
+    background: Option<String>,
+}
+
+/// What the command line asked behind the object.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum BackgroundArg {
+    Environment,
+    Color(Vec3),
+}
+
+/// `env`, `black`, `#rrggbb` (sRGB-encoded, decoded to linear) or `R,G,B` (linear,
+/// finite, non-negative).
+fn parse_background(text: &str) -> std::result::Result<BackgroundArg, String> {
+    let bad = || format!("--background {text}: expected env, black, #rrggbb or R,G,B");
+    match text {
+        "env" => return Ok(BackgroundArg::Environment),
+        "black" => return Ok(BackgroundArg::Color(Vec3::ZERO)),
+        _ => {}
+    }
+    if let Some(hex) = text.strip_prefix('#') {
+        if hex.len() != 6 || !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
+            return Err(bad());
+        }
+        let channel = |k: usize| u8::from_str_radix(&hex[2 * k..2 * k + 2], 16).map_err(|_| bad());
+        let rgb = [channel(0)?, channel(1)?, channel(2)?].map(|c| srgb_to_linear(c as f32 / 255.0));
+        return Ok(BackgroundArg::Color(Vec3::from_array(rgb)));
+    }
+    let parts: Vec<f32> = text.split(',').map(|p| p.trim().parse::<f32>()).collect::<std::result::Result<_, _>>().map_err(|_| bad())?;
+    match parts[..] {
+        [r, g, b] if parts.iter().all(|x| x.is_finite() && *x >= 0.0) => Ok(BackgroundArg::Color(Vec3::new(r, g, b))),
+        _ => Err(bad()),
+    }
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -136,21 +206,78 @@ enum Format {
     Exr,
 }
 
-pub(super) fn run(args: RenderArgs) -> Result<()> {
+/// How a rendered frame becomes an image file: background, exposure, tone mapping.
+struct Develop {
+    /// A flat background composited where no object is (drawn by the renderer with --env).
+    background: Option<Vec3>,
+    scale: f32,
+    /// `None` for EXR: linear.
+    tonemap: Option<Tonemap>,
+}
+
+impl Develop {
+    fn apply(&self, image: &Image) -> Rgb {
+        let pixels = image
+            .pixels
+            .iter()
+            .map(|p| {
+                // Alpha is the object's coverage (0 or 1: no multisampling).
+                let c = match self.background {
+                    Some(b) if p[3] == 0.0 => b.to_array(),
+                    _ => [p[0], p[1], p[2]],
+                };
+                let c = c.map(|x| x * self.scale);
+                self.tonemap.map_or(c, |t| t.map(c))
+            })
+            .collect();
+        Rgb { width: image.width, height: image.height, pixels }
+    }
+}
+
+pub(super) fn run(args: RenderArgs) -> std::result::Result<(), Failure> {
     let format = match args.out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
         Some("png") => Format::Png,
         Some("exr") => Format::Exr,
         _ => {
-            return Err(Error::input(format!("{}: the output must be a .png or .exr file", args.out.display())));
+            return Err(Error::input(format!("{}: the output must be a .png or .exr file", args.out.display())).into());
         }
     };
+    let background = args.background.as_deref().map(parse_background).transpose().map_err(Failure::Usage)?;
+    if background == Some(BackgroundArg::Environment) && args.env.is_none() {
+        return Err(Failure::Usage("--background env needs --env".into()));
+    }
+    let ev = args.exposure.unwrap_or(0.0);
+    if !(ev.is_finite() && ev.abs() <= MAX_EV) {
+        return Err(Failure::Usage(format!("--exposure {ev}: give a number of stops from -{MAX_EV} to {MAX_EV}")));
+    }
+    let tonemap = match (format, args.tonemap.as_deref()) {
+        (Format::Exr, Some(_)) => {
+            return Err(Failure::Usage("--tonemap applies to PNG output; an EXR stays linear".into()));
+        }
+        (Format::Exr, None) => None,
+        (Format::Png, Some(name)) => Some(Tonemap::parse(name)?),
+        (Format::Png, None) => Some(if args.env.is_some() { Tonemap::Neutral } else { Tonemap::None }),
+    };
+    let rotate_deg = args.env_rotate.unwrap_or(0.0);
+    if !rotate_deg.is_finite() {
+        return Err(Failure::Usage(format!("--env-rotate {rotate_deg}: give an angle in degrees")));
+    }
+    let samples = args.env_samples.unwrap_or(DEFAULT_SAMPLES);
+    if !SAMPLES.contains(&samples) {
+        return Err(Failure::Usage(format!(
+            "--env-samples {samples}: give {} to {} directions per pixel",
+            SAMPLES.start(),
+            SAMPLES.end()
+        )));
+    }
+    let environment = args.env.as_deref().map(Environment::load).transpose()?;
     let (orbit, frames) = match (args.turntable, args.light_sweep) {
         (Some(n), _) => (Some(Orbit::Camera), n),
         (None, Some(n)) => (Some(Orbit::Light), n),
         (None, None) => (None, 1),
     };
     if orbit.is_some() && !(1..=MAX_FRAMES).contains(&frames) {
-        return Err(Error::input(format!("a sequence needs 1 to {MAX_FRAMES} frames, not {frames}")));
+        return Err(Error::input(format!("a sequence needs 1 to {MAX_FRAMES} frames, not {frames}")).into());
     }
     let material = Material::load(&args.material)?;
     let json = if args.material.is_dir() { args.material.join("material.json") } else { args.material.clone() };
@@ -163,7 +290,8 @@ pub(super) fn run(args: RenderArgs) -> Result<()> {
             return Err(Error::input(format!(
                 "{}: the material looks up texture coordinates (a uv factor or coefficient textures) but mesh {k} of {name} has none; give --uv spherical or --uv box",
                 json.display()
-            )));
+            ))
+            .into());
         }
         if let Some(note) = note {
             eprintln!("note: {name}: {note}");
@@ -179,6 +307,25 @@ pub(super) fn run(args: RenderArgs) -> Result<()> {
     let gpu_shading = renderer.upload(&material)?;
     let mut gpu = GpuScene::upload(ctx.gl(), &scene)?;
     let centre = orbit_centre(&scene);
+    let gpu_env = environment.as_ref().map(|e| GpuEnvironment::upload(ctx.gl(), e)).transpose()?;
+    let lighting = gpu_env.as_ref().map(|environment| Lighting {
+        environment,
+        rotate_deg,
+        key_light: args.key_light.as_deref() != Some("off"),
+        background: match background {
+            Some(BackgroundArg::Color(c)) => Background::Color(c),
+            _ => Background::Environment,
+        },
+        samples,
+    });
+    let develop = Develop {
+        background: match (lighting, background) {
+            (None, Some(BackgroundArg::Color(c))) => Some(c),
+            _ => None,
+        },
+        scale: exposure_scale(ev),
+        tonemap,
+    };
 
     // Frames go to hidden temporary names and are committed together when all are written:
     // a sequence appears whole or not at all (brdfpaint::commit::StagedFiles).
@@ -187,13 +334,21 @@ pub(super) fn run(args: RenderArgs) -> Result<()> {
         if let Some(orbit) = orbit {
             (gpu.camera, gpu.light) = orbit_frame(&scene.camera, &scene.light, centre, orbit, k, frames);
         }
-        let image = renderer.factored(&gpu, &gpu_shading, width, height)?.to_rgb();
+        let frame = match &lighting {
+            Some(lighting) => renderer.lit(&gpu, &gpu_shading, lighting, width, height)?,
+            None => renderer.factored(&gpu, &gpu_shading, width, height)?,
+        };
+        let image = develop.apply(&frame);
         staged.add(path, |tmp| match format {
             Format::Png => image.write_png(tmp),
             Format::Exr => image.write_exr(tmp),
         })?;
     }
     staged.commit()?;
+    let lit = match &args.env {
+        Some(e) => format!(" under {}", e.display()),
+        None => String::new(),
+    };
     let what = match orbit {
         None => String::new(),
         Some(Orbit::Camera) => format!(", turntable of {frames} frames"),
@@ -202,7 +357,7 @@ pub(super) fn run(args: RenderArgs) -> Result<()> {
     let first = paths[0].display();
     let outputs =
         if paths.len() == 1 { first.to_string() } else { format!("{first} ... {}", paths[paths.len() - 1].display()) };
-    println!("rendered {} on {name} at {width}x{height}{what}: {outputs}", args.material.display());
+    println!("rendered {} on {name}{lit} at {width}x{height}{what}: {outputs}", args.material.display());
     Ok(())
 }
 
@@ -229,5 +384,18 @@ mod tests {
         assert!(check_pixels(4096, 4096).is_ok() && check_pixels(4097, 4096).is_err());
         assert_eq!(frame_path(Path::new("out/r.png"), 7, 24), Path::new("out/r-007.png"));
         assert_eq!(frame_path(Path::new("r.exr"), 12, 2000), Path::new("r-0012.exr"));
+    }
+
+    #[test]
+    fn backgrounds_parse_as_names_hex_srgb_or_linear_triples() {
+        assert_eq!(parse_background("env"), Ok(BackgroundArg::Environment));
+        assert_eq!(parse_background("black"), Ok(BackgroundArg::Color(Vec3::ZERO)));
+        assert_eq!(parse_background("0.5, 1,2"), Ok(BackgroundArg::Color(Vec3::new(0.5, 1.0, 2.0))));
+        // #808080 is sRGB 128/255: linear 0.2158.
+        let BackgroundArg::Color(c) = parse_background("#808080").unwrap() else { panic!() };
+        assert!((c.x - 0.2158).abs() < 1e-3 && c.x == c.z, "{c}");
+        for bad in ["#12345", "#gg0000", "1,2", "1,-2,3", "nan,0,0", "white", ""] {
+            assert!(parse_background(bad).is_err(), "{bad}");
+        }
     }
 }

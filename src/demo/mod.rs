@@ -17,6 +17,8 @@
 //!    onto the bunny, Suzanne and the teapot under new lights ([`retargets`]); those have no
 //!    uvs, and get the sphere's by spherical projection, so a material map wraps around them.
 //! 5. A contact sheet ([`contact`]), labelled, and a one-screen summary.
+//! 6. Each material on the sphere under the two bundled HDR environments (`assets/hdri/`),
+//!    without the key light, tone mapped with Khronos PBR Neutral ([`environments`]).
 //!
 //! ```text
 //! DIR/summary.txt            the summary (its first line marks DIR as a demo directory)
@@ -28,6 +30,8 @@
 //! DIR/materials/NAME/        material.json, factor EXRs (and coefficient textures of a
 //!                            material map: materials/lacquered-wood/), report.png
 //! DIR/renders/NAME-MODEL.png the renders of the contact sheet
+//! DIR/environments.png       rows = environments (city, sunset), columns = materials
+//! DIR/renders/NAME-ENV.png   the sphere under each environment
 //! ```
 //!
 //! DIR is written as a whole: everything goes into a temporary sibling first, which then
@@ -196,6 +200,7 @@ struct Stages {
     held_out: f64,
     renders: f64,
     contact: f64,
+    environments: f64,
 }
 
 fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
@@ -304,10 +309,54 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
     contact::downsample(&sheet, 2)?.write_png(&tmp.join("contact-small.png"))?;
     stages.contact = t.elapsed().as_secs_f64();
 
+    // 6. Under the bundled environments.
+    let t = Instant::now();
+    let spheres: Vec<&GpuScene> = specs.iter().map(|spec| &gpu_scenes[shown_view(spec)]).collect();
+    let materials: Vec<(&str, &Material, Option<&Scene>)> =
+        specs.iter().zip(&fitted).map(|(spec, f)| (spec.name, &f.material, f.scene.as_ref())).collect();
+    environments(sampler.renderer(), &materials, &spheres, tmp)?;
+    stages.environments = t.elapsed().as_secs_f64();
+
     let total_s = start.elapsed().as_secs_f64();
     let summary = summary(&rows, &stages, dir, cache, total_s);
     crate::commit::write_atomic(&tmp.join("summary.txt"), summary.as_bytes())?;
     Ok(Report { rows, summary, total_s })
+}
+
+/// Side of the environment renders, pixels: small, so the demo stays a few seconds.
+const ENV_SIZE: usize = 96;
+/// Directions per pixel of the environment renders (under half the default: at this size the
+/// difference does not show, and the demo stays fast).
+const ENV_SAMPLES: usize = 24;
+
+/// Renders each material (name, material, its own scene if it has one) on its sphere
+/// under each bundled environment, environment behind, no key light; writes
+/// `renders/NAME-ENV.png` and `environments.png` (a row per environment).
+fn environments(renderer: &mut crate::render::Renderer, materials: &[(&str, &Material, Option<&Scene>)], spheres: &[&GpuScene], tmp: &Path) -> Result<()> {
+    use crate::images::env::{bundled, BUNDLED};
+    use crate::images::tone::Tonemap;
+    use crate::render::{GpuEnvironment, Lighting};
+    let (cols, rows) = (materials.len(), BUNDLED.len());
+    let mut sheet = crate::images::Rgb::new(cols * ENV_SIZE, rows * ENV_SIZE)?;
+    for (row, (env_name, _)) in BUNDLED.iter().enumerate() {
+        let env = GpuEnvironment::upload(renderer.gl(), &bundled(env_name)?)?;
+        let lighting = Lighting { samples: ENV_SAMPLES, ..Lighting::new(&env) };
+        for (col, ((name, material, own), sphere)) in materials.iter().zip(spheres).enumerate() {
+            let gpu = renderer.upload(material)?;
+            let own = own.map(|s| GpuScene::upload(renderer.gl(), s)).transpose()?;
+            let image = renderer.lit(own.as_ref().unwrap_or(sphere), &gpu, &lighting, ENV_SIZE, ENV_SIZE)?;
+            let mut rgb = image.to_rgb();
+            for p in &mut rgb.pixels {
+                *p = Tonemap::Neutral.map(*p);
+            }
+            rgb.write_png(&tmp.join("renders").join(format!("{name}-{env_name}.png")))?;
+            for j in 0..ENV_SIZE {
+                let at = (row * ENV_SIZE + j) * sheet.width + col * ENV_SIZE;
+                sheet.pixels[at..at + ENV_SIZE].copy_from_slice(&rgb.pixels[j * ENV_SIZE..(j + 1) * ENV_SIZE]);
+            }
+        }
+    }
+    sheet.write_png(&tmp.join("environments.png"))
 }
 
 /// The painted view the contact sheet shows for `spec`: its last painting's.
@@ -509,13 +558,18 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
     let _ = writeln!(s, "renders at {SIZE}x{SIZE}, new lights: {}: {:.0} ms", models.join(", "), stages.renders * 1e3);
     let _ = writeln!(
         s,
+        "under environments (city, sunset) at {ENV_SIZE}x{ENV_SIZE}, {ENV_SAMPLES} directions: {:.0} ms",
+        stages.environments * 1e3
+    );
+    let _ = writeln!(
+        s,
         "fits {:.0} ms, held-out checks {:.0} ms, contact sheet {:.0} ms; total {:.2} s",
         stages.fits * 1e3,
         stages.held_out * 1e3,
         stages.contact * 1e3,
         total_s
     );
-    let _ = writeln!(s, "wrote {d}/: contact.png, contact-small.png, summary.txt, sheet/, sheet-2/, paintings/, materials/, renders/");
+    let _ = writeln!(s, "wrote {d}/: contact.png, contact-small.png, environments.png, summary.txt, sheet/, sheet-2/, paintings/, materials/, renders/");
     s
 }
 

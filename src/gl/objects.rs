@@ -245,6 +245,24 @@ impl Texture2D {
         }
     }
 
+    /// An equirectangular panorama: RGBA32F from `rgba` (row 0 at $t = 0$), with a full mip
+    /// chain made by `glGenerateMipmap` (2×2 box filter per level) and trilinear filtering,
+    /// `REPEAT` in $s$ (filtering wraps across the $u = 0$ seam, so no column shows it) and
+    /// `CLAMP_TO_EDGE` in $t$ (the poles).
+    pub fn panorama(gl: &Gl, width: usize, height: usize, rgba: &[f32]) -> Result<Texture2D> {
+        let texture = Texture2D::new(gl, width, height, TexelFormat::Rgba32F, Filter::Linear, Some(rgba))?;
+        // SAFETY: a live texture of this context, bound by `new`.
+        unsafe {
+            gl.bind_texture(glow::TEXTURE_2D, Some(texture.raw));
+            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAX_LEVEL, 1000);
+            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, glow::LINEAR_MIPMAP_LINEAR as i32);
+            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_WRAP_S, glow::REPEAT as i32);
+            gl.generate_mipmap(glow::TEXTURE_2D);
+            check_error(gl, "panorama mipmaps")?;
+        }
+        Ok(texture)
+    }
+
     /// Binds it to texture unit `unit` (GL state: the active texture unit changes).
     pub fn bind(&self, unit: u32) {
         // SAFETY: a live texture of this context.

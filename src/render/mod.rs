@@ -30,6 +30,7 @@
 //! ```
 
 mod camera;
+pub mod env;
 mod gbuffer;
 pub mod mesh;
 pub mod orbit;
@@ -42,6 +43,7 @@ use glam::Vec3;
 use glow::HasContext;
 
 pub use camera::{LightUniforms, View};
+pub use env::{Background, GpuEnvironment, Lighting};
 pub use gbuffer::{GBuffer, GPixel, LineTracer, OutlineStyle};
 pub use mesh::Mesh;
 pub use orbit::Orbit;
@@ -58,7 +60,12 @@ pub mod sources {
     pub const MESH_VERT: &str = include_str!("../../shaders/mesh.vert");
     pub const SURFACE: &str = include_str!("../../shaders/surface.glsl");
     pub const PARAM: &str = include_str!("../../shaders/param.glsl");
+    pub const TERM: &str = include_str!("../../shaders/term.glsl");
     pub const FACTORED_FRAG: &str = include_str!("../../shaders/factored.frag");
+    pub const ENV: &str = include_str!("../../shaders/env.glsl");
+    pub const ENV_FRAG: &str = include_str!("../../shaders/env.frag");
+    pub const BACKGROUND_VERT: &str = include_str!("../../shaders/background.vert");
+    pub const BACKGROUND_FRAG: &str = include_str!("../../shaders/background.frag");
     pub const REFERENCE_FRAG: &str = include_str!("../../shaders/reference.frag");
     pub const GBUFFER_FRAG: &str = include_str!("../../shaders/gbuffer.frag");
     pub const GGX_FRAG: &str = include_str!("../../shaders/ggx.frag");
@@ -156,6 +163,7 @@ pub struct Renderer {
     gbuffer: Program,
     ggx: Program,
     factored: HashMap<String, Program>,
+    background: Option<env::BackgroundPass>,
     target: Option<Framebuffer>,
 }
 
@@ -168,6 +176,7 @@ impl Renderer {
             gbuffer: mesh_program(gl, "gbuffer", &[], sources::GBUFFER_FRAG)?,
             ggx: mesh_program(gl, "ggx", &[], sources::GGX_FRAG)?,
             factored: HashMap::new(),
+            background: None,
             target: None,
         })
     }
@@ -200,7 +209,8 @@ impl Renderer {
         for term in &shading.terms {
             if !self.factored.contains_key(&term.key) {
                 let defines: Vec<(&str, String)> = term.defines.iter().map(|(n, v)| (*n, v.clone())).collect();
-                let program = mesh_program(&self.gl, "factored", &defines, sources::FACTORED_FRAG)?;
+                let fragment = format!("{}\n{}", sources::TERM, sources::FACTORED_FRAG);
+                let program = mesh_program(&self.gl, "factored", &defines, &fragment)?;
                 self.factored.insert(term.key.clone(), program);
             }
         }
@@ -210,45 +220,15 @@ impl Renderer {
             program.bind();
             view.apply(program);
             light.apply(program);
-            for (j, (texture, res)) in term.factors.iter().enumerate() {
-                texture.bind(j as u32);
-                program.set_i32(shading::FACTOR_UNIFORMS[j][0], j as i32);
-                program.set_f32(shading::FACTOR_UNIFORMS[j][1], *res);
-            }
-            program.set_vec3("u_map_a", term.map_a);
-            if let Some(c) = &term.coefficients {
-                c.bind(shading::COEF_UNIT);
-                program.set_i32("u_coef", shading::COEF_UNIT as i32);
-                program.set_vec2("u_coef_size", glam::Vec2::new(c.width() as f32, c.height() as f32));
-            }
+            term.apply(program);
             // SAFETY: state changes on the current context.
-            unsafe {
-                if k == 0 {
-                    // First term: the nearest surface wins, written as is.
-                    gl.enable(glow::DEPTH_TEST);
-                    gl.depth_func(glow::LESS);
-                    gl.depth_mask(true);
-                    gl.disable(glow::BLEND);
-                } else {
-                    // Later terms: the same fragments again (invariant gl_Position, so equal
-                    // depths), added to the colour; alpha keeps the first pass's coverage.
-                    gl.depth_func(glow::LEQUAL);
-                    gl.depth_mask(false);
-                    gl.enable(glow::BLEND);
-                    gl.blend_equation(glow::FUNC_ADD);
-                    gl.blend_func_separate(glow::ONE, glow::ONE, glow::ZERO, glow::ONE);
-                }
-            }
+            unsafe { term_pass_state(gl, k) };
             for mesh in &scene.meshes {
                 mesh.draw(gl);
             }
         }
         // SAFETY: restore the defaults the other passes assume.
-        unsafe {
-            gl.depth_mask(true);
-            gl.depth_func(glow::LESS);
-            gl.disable(glow::BLEND);
-        }
+        unsafe { default_pass_state(gl) };
         crate::gl::check_error(gl, "factored shading")
     }
 
@@ -464,6 +444,38 @@ pub fn band_rows(width: usize) -> usize {
 
 fn too_large(what: &str, width: usize, height: usize) -> Error {
     Error::input(format!("not enough memory for a {width}x{height} {what}"))
+}
+
+/// Depth and blending for the pass of term `k` of a material.
+///
+/// # Safety
+/// A current context.
+unsafe fn term_pass_state(gl: &Gl, k: usize) {
+    if k == 0 {
+        // First term: the nearest surface wins, written as is.
+        gl.enable(glow::DEPTH_TEST);
+        gl.depth_func(glow::LESS);
+        gl.depth_mask(true);
+        gl.disable(glow::BLEND);
+    } else {
+        // Later terms: the same fragments again (invariant gl_Position, so equal
+        // depths), added to the colour; alpha keeps the first pass's coverage.
+        gl.depth_func(glow::LEQUAL);
+        gl.depth_mask(false);
+        gl.enable(glow::BLEND);
+        gl.blend_equation(glow::FUNC_ADD);
+        gl.blend_func_separate(glow::ONE, glow::ONE, glow::ZERO, glow::ONE);
+    }
+}
+
+/// The depth and blending defaults the other passes assume.
+///
+/// # Safety
+/// A current context.
+unsafe fn default_pass_state(gl: &Gl) {
+    gl.depth_mask(true);
+    gl.depth_func(glow::LESS);
+    gl.disable(glow::BLEND);
 }
 
 /// A program of the shared vertex stage and a fragment stage that uses `surface()` (and the

@@ -111,6 +111,24 @@ pub struct GpuShading {
     pub(crate) terms: Vec<GpuTerm>,
 }
 
+impl GpuTerm {
+    /// Binds the term's textures and sets its uniforms on the bound `program`
+    /// (`shaders/term.glsl`).
+    pub(crate) fn apply(&self, program: &crate::gl::Program) {
+        for (j, (texture, res)) in self.factors.iter().enumerate() {
+            texture.bind(j as u32);
+            program.set_i32(FACTOR_UNIFORMS[j][0], j as i32);
+            program.set_f32(FACTOR_UNIFORMS[j][1], *res);
+        }
+        program.set_vec3("u_map_a", self.map_a);
+        if let Some(c) = &self.coefficients {
+            c.bind(COEF_UNIT);
+            program.set_i32("u_coef", COEF_UNIT as i32);
+            program.set_vec2("u_coef_size", glam::Vec2::new(c.width() as f32, c.height() as f32));
+        }
+    }
+}
+
 impl GpuShading {
     /// Checks ([`check`]) and uploads `material`.
     pub fn upload(gl: &Gl, material: &Material) -> Result<GpuShading> {

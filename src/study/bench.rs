@@ -313,6 +313,118 @@ pub fn gl_cases(quick: bool) -> Result<(Vec<Case>, String)> {
     Ok((out, ctx.renderer().to_string()))
 }
 
+/// Environment lighting (`render::env`): for each bundled environment its preparation
+/// (`prepare_s`: upload and mip chain, the prefiltering, to `glFinish`; `time_s`: decoding
+/// the file), then the frame time of a material under an environment beside its frame under
+/// the point light alone, on the same mesh and size, interleaved (`time_s` the environment
+/// frame with the key light and the background, `ratio` environment / point light; `samples`
+/// the directions per pixel). The material is the 3×1D fit of the GGX model of
+/// [`gl_cases`], on the bunny. `quick` times one frame of each.
+pub fn env_cases(quick: bool) -> Result<Vec<Case>> {
+    use crate::factor::Mapping;
+    use crate::gl::HeadlessContext;
+    use crate::images::env::{Environment, BUNDLED};
+    use crate::material::Material;
+    use crate::render::env::DEFAULT_SAMPLES;
+    use crate::render::{GpuEnvironment, Lighting};
+    use crate::scene::Scene;
+
+    let ctx = HeadlessContext::new()?;
+    let mut renderer = Renderer::new(ctx.gl())?;
+    let mut out = Vec::new();
+    let mut prepared = Vec::new();
+    for (name, bytes) in BUNDLED {
+        let t = Instant::now();
+        let env = Environment::decode(std::path::Path::new(name), bytes)?;
+        let decode_s = t.elapsed().as_secs_f64();
+        let runs = if quick { 1 } else { 5 };
+        let mut times = Vec::new();
+        let mut gpu = None;
+        for _ in 0..runs {
+            let t = Instant::now();
+            gpu = Some(GpuEnvironment::upload(ctx.gl(), &env)?);
+            // SAFETY: waits for the GPU on the current context.
+            unsafe { ctx.gl().finish() };
+            times.push(t.elapsed().as_secs_f64());
+        }
+        out.push(Case {
+            case: format!("env prepare {name} {}x{} (upload + mip chain)", env.width, env.height),
+            prepare_s: Some(median(&times)),
+            time_s: Some(decode_s),
+            ..Default::default()
+        });
+        prepared.push(gpu.expect("at least one run"));
+    }
+
+    let ggx = Ggx::default();
+    let model = Analytic::Ggx {
+        diffuse: ggx.diffuse.as_dvec3().to_array(),
+        f0: ggx.f0.as_dvec3().to_array(),
+        roughness: ggx.roughness as f64,
+    };
+    let pattern = sphere_pattern(7884);
+    let values = pattern.shade(|q| model.shading(q));
+    let res = crate::factor::defaults::RES_1D;
+    let settings = Settings::uniform(1, res);
+    let fit = prepare(&pattern, &settings)?.solve(&values, Mapping::Auto)?;
+    let shading = renderer.upload(&Material::from_fit(&settings, &fit, Default::default())?)?;
+    let scene = GpuScene::upload(ctx.gl(), &Scene::from_preset("bunny", "front-left")?)?;
+    for (size, samples) in [(512, DEFAULT_SAMPLES), (1024, DEFAULT_SAMPLES), (512, 16)] {
+        let lighting = Lighting { key_light: true, samples, ..Lighting::new(&prepared[0]) };
+        let frames = if quick { 1 } else if size == 512 { 8 } else { 4 };
+        let (mut env_ms, mut point_ms) = (Vec::new(), Vec::new());
+        // One untimed frame of each compiles the programs.
+        for k in 0..frames + 1 {
+            let start = Instant::now();
+            renderer.begin(size, size)?;
+            renderer.draw_lit(&scene, &shading, &lighting, size, size)?;
+            // SAFETY: waits for the GPU on the current context.
+            unsafe { renderer.gl().finish() };
+            let t_env = start.elapsed().as_secs_f64() * 1e3;
+            let start = Instant::now();
+            renderer.begin(size, size)?;
+            renderer.draw_factored(&scene, &shading, size, size)?;
+            // SAFETY: as above.
+            unsafe { renderer.gl().finish() };
+            let t_point = start.elapsed().as_secs_f64() * 1e3;
+            if k > 0 {
+                env_ms.push(t_env);
+                point_ms.push(t_point);
+            }
+        }
+        let (e, p) = (median(&env_ms), median(&point_ms));
+        out.push(Case {
+            case: format!("gl env {} 3x1D M={res} vs point light, bunny {size}x{size}", BUNDLED[0].0),
+            samples: Some(samples),
+            res: Some(res),
+            terms: Some(1),
+            time_s: Some(e * 1e-3),
+            ratio: Some(e / p),
+            ..Default::default()
+        });
+    }
+    Ok(out)
+}
+
+/// A human-readable table of the environment cases: preparation, then frame times.
+pub fn env_table(cases: &[Case]) -> String {
+    let mut out = String::new();
+    for c in cases.iter().filter(|c| c.prepare_s.is_some()) {
+        out += &format!(
+            "{:<58} prepare {:>7.2} ms, decode {:>7.2} ms\n",
+            c.case,
+            c.prepare_s.unwrap_or(f64::NAN) * 1e3,
+            c.time_s.unwrap_or(f64::NAN) * 1e3
+        );
+    }
+    out += &format!("{:<58} {:>5} {:>10} {:>10} {:>7}\n", "case", "dirs", "env ms", "point ms", "ratio");
+    for c in cases.iter().filter(|c| c.prepare_s.is_none()) {
+        let (t, r) = (c.time_s.unwrap_or(f64::NAN), c.ratio.unwrap_or(f64::NAN));
+        out += &format!("{:<58} {:>5} {:>10.1} {:>10.1} {:>7.1}\n", c.case, c.samples.unwrap_or(0), t * 1e3, t / r * 1e3, r);
+    }
+    out
+}
+
 /// A human-readable table of GL cases: factored and analytic frame times and their ratio.
 pub fn gl_table(cases: &[Case]) -> String {
     let mut out = format!("{:<46} {:>12} {:>12} {:>7}\n", "case", "factored ms", "analytic ms", "ratio");

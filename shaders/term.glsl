@@ -1,0 +1,81 @@
+// One term of a factored shading function (thesis eq. 3.1), the one GLSL evaluation of a
+// material, shared by the key-light pass (factored.frag) and the environment pass (env.frag):
+//   $f = \mathrm{inv}(\prod_j p_j(\pi_j(l, v, uv))) \cdot c(uv)$.
+// term_product(s) is the mapped product at the Surface's (l, h, v, uv); term_coefficient(s)
+// is c(uv), 1 without a coefficient texture.
+//
+// Compile-time layout (prepended #defines, see src/render/shading.rs):
+//   NUM_FACTORS 0..6; F<k>_INPUT, F<k>_PARAM, F<k>_DOMAIN per factor and MAP_KIND name
+//   param.glsl's codes (INPUT_LIGHT, PARAM_RADIUS, DOMAIN_SPHERE, MAP_OFFSET, ...), the one
+//   place they are defined; F<k>_DIM 1 or 2; F<k>_WARP the node warp of a radius axis (a
+//   float literal, 1.0 for none); HAS_COEF 0 or 1.
+// Uniforms: u_factor<k> (sampler), u_res<k> (nodes per axis), u_map_a (per-channel a),
+//   u_coef (sampler) and u_coef_size (texels per axis).
+
+uniform sampler2D u_factor0;
+uniform sampler2D u_factor1;
+uniform sampler2D u_factor2;
+uniform sampler2D u_factor3;
+uniform sampler2D u_factor4;
+uniform sampler2D u_factor5;
+uniform float u_res0;
+uniform float u_res1;
+uniform float u_res2;
+uniform float u_res3;
+uniform float u_res4;
+uniform float u_res5;
+uniform vec3 u_map_a;
+uniform sampler2D u_coef;
+uniform vec2 u_coef_size;
+
+
+vec3 factor(sampler2D tex, int input_kind, int param, int domain, int dim, float warp, float m, Surface s) {
+    vec2 t = table_coordinate(input_kind, param, domain, s.l, s.h, s.v, s.uv);
+    t.x = warp_forward(t.x, warp);
+    // 1D tables are M x 1 textures (GLES has no 1D textures): sample the row's centre.
+    vec2 size = dim == 1 ? vec2(m, 1.0) : vec2(m);
+    vec2 tc = node_to_texel(t, size);
+    if (dim == 1) tc.y = 0.5;
+    return texture(tex, tc).rgb;
+}
+
+vec3 term_product(Surface s) {
+    vec3 prod = vec3(1.0);
+#if NUM_FACTORS > 0
+    prod *= factor(u_factor0, F0_INPUT, F0_PARAM, F0_DOMAIN, F0_DIM, F0_WARP, u_res0, s);
+#endif
+#if NUM_FACTORS > 1
+    prod *= factor(u_factor1, F1_INPUT, F1_PARAM, F1_DOMAIN, F1_DIM, F1_WARP, u_res1, s);
+#endif
+#if NUM_FACTORS > 2
+    prod *= factor(u_factor2, F2_INPUT, F2_PARAM, F2_DOMAIN, F2_DIM, F2_WARP, u_res2, s);
+#endif
+#if NUM_FACTORS > 3
+    prod *= factor(u_factor3, F3_INPUT, F3_PARAM, F3_DOMAIN, F3_DIM, F3_WARP, u_res3, s);
+#endif
+#if NUM_FACTORS > 4
+    prod *= factor(u_factor4, F4_INPUT, F4_PARAM, F4_DOMAIN, F4_DIM, F4_WARP, u_res4, s);
+#endif
+#if NUM_FACTORS > 5
+    prod *= factor(u_factor5, F5_INPUT, F5_PARAM, F5_DOMAIN, F5_DIM, F5_WARP, u_res5, s);
+#endif
+
+    // Inverse of the log mapping (thesis eq. 3.14, 3.16), clamped at zero.
+#if MAP_KIND == MAP_OFFSET
+    vec3 f = max(prod - u_map_a, 0.0);
+#elif MAP_KIND == MAP_INVERTED
+    vec3 f = max(u_map_a - prod, 0.0);
+#else
+    vec3 f = max(prod, 0.0);
+#endif
+    return f;
+}
+
+vec3 term_coefficient(Surface s) {
+#if HAS_COEF
+    // Material-map coefficient over uv, node-based like the uv factor.
+    return texture(u_coef, node_to_texel(clamp(s.uv, 0.0, 1.0), u_coef_size)).rgb;
+#else
+    return vec3(1.0);
+#endif
+}
