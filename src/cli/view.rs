@@ -4,9 +4,11 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use brdfpaint::error::{Error, Result};
+use brdfpaint::images::env::{bundled, Environment, BUNDLED};
+use brdfpaint::images::tone::Tonemap;
 use brdfpaint::material::Material;
 use brdfpaint::scene::model_meshes;
-use brdfpaint::viewer::{self, Mode, Options, Start};
+use brdfpaint::viewer::{self, EnvStart, Mode, Options, Start};
 
 #[derive(clap::Args)]
 pub(super) struct ViewArgs {
@@ -55,6 +57,19 @@ pub(super) struct ViewArgs {
     /// Default: chosen from frame times, to keep 30 frames a second.
     #[arg(long, value_name = "F")]
     render_scale: Option<f32>,
+    /// Show the material under an HDR environment: a bundled one (city, sunset) or a 2:1
+    /// .hdr/.exr file (also in the panel, or dropped on the window).
+    #[arg(long, value_name = "NAME|FILE")]
+    env: Option<String>,
+    /// Turn the environment about +y by DEG degrees, as `render --env-rotate`.
+    #[arg(long, value_name = "DEG", requires = "env", allow_hyphen_values = true)]
+    env_rotate: Option<f32>,
+    /// Exposure under the environment, in stops, as `render --exposure`.
+    #[arg(long, value_name = "EV", requires = "env", allow_hyphen_values = true)]
+    exposure: Option<f32>,
+    /// Tone mapping under the environment: neutral (default), aces or none.
+    #[arg(long, value_name = "NAME", requires = "env", value_parser = Tonemap::NAMES)]
+    tonemap: Option<String>,
     /// With --frames: keep the window open this many seconds after the last frame.
     #[arg(long, value_name = "SECONDS", default_value_t = 0.0, requires = "frames")]
     hold: f64,
@@ -87,6 +102,23 @@ pub(super) fn run(args: ViewArgs) -> Result<()> {
         Some(p) => Some(brdfpaint::live::SphereSession::open(p, None)?),
         None => None,
     };
+    let env = match &args.env {
+        Some(name) => {
+            let environment =
+                if BUNDLED.iter().any(|(n, _)| n == name) { bundled(name)? } else { Environment::load(std::path::Path::new(name))? };
+            let rotate_deg = args.env_rotate.unwrap_or(0.0);
+            if !rotate_deg.is_finite() {
+                return Err(Error::input(format!("--env-rotate {rotate_deg}: give an angle in degrees")));
+            }
+            let ev = args.exposure.unwrap_or(0.0);
+            if !(ev.is_finite() && ev.abs() <= 64.0) {
+                return Err(Error::input(format!("--exposure {ev}: give a number of stops from -64 to 64")));
+            }
+            let tonemap = args.tonemap.as_deref().map(Tonemap::parse).transpose()?.unwrap_or(Tonemap::Neutral);
+            Some(EnvStart { name: name.clone(), environment, rotate_deg, ev, tonemap })
+        }
+        None => None,
+    };
     let mode = if args.paint || args.watch.is_some() { Mode::Paint } else { Mode::View };
     let start = Start {
         model,
@@ -100,5 +132,5 @@ pub(super) fn run(args: ViewArgs) -> Result<()> {
         uv: args.uv,
     };
     let hold = if args.hold.is_finite() && args.hold > 0.0 { Duration::from_secs_f64(args.hold.min(3600.0)) } else { Duration::ZERO };
-    viewer::run(Options { start, lit_sphere, window, frames: args.frames.map(|n| n.max(1)), screenshot: args.screenshot, hold })
+    viewer::run(Options { start, lit_sphere, env, window, frames: args.frames.map(|n| n.max(1)), screenshot: args.screenshot, hold })
 }

@@ -19,6 +19,7 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::window::{Window, WindowId};
 
 use super::display::{read_window, WindowRect, View3d};
+use super::studio::EnvStart;
 use super::studio::{Mode, Start, Studio};
 use crate::error::{Error, Result};
 use crate::gl::Gl;
@@ -30,6 +31,8 @@ pub struct Options {
     pub start: Start,
     /// `view --lit-sphere`: a lit sphere opened (its light estimated) to start with.
     pub lit_sphere: Option<crate::live::SphereSession>,
+    /// `view --env`: an environment to start with.
+    pub env: Option<EnvStart>,
     /// Initial window size, physical pixels.
     pub window: [u32; 2],
     /// Exit after this many frames (tests).
@@ -64,6 +67,12 @@ pub struct ScreenshotInfo {
     /// sRGB-encoded background of the 3D view, 0..255.
     pub background: [u8; 3],
     pub frames: u64,
+    /// The environment ("none", a bundled name or a file), its rotation in degrees, the
+    /// exposure in stops and the directions per pixel of the last frame.
+    pub environment: String,
+    pub env_rotate_deg: f32,
+    pub exposure: f32,
+    pub env_samples: usize,
     /// The 3D view's render scale at the last frame.
     pub render_scale: f32,
     /// Whether the render scale was chosen from frame times.
@@ -310,6 +319,9 @@ impl Running {
         if let Some(sphere) = options.lit_sphere {
             studio.start_lit_sphere(&mut renderer, sphere)?;
         }
+        if let Some(env) = options.env {
+            studio.start_environment(&renderer, env)?;
+        }
         window.set_visible(true);
         window.request_redraw();
         Ok(Running {
@@ -369,7 +381,20 @@ impl Running {
             stage.gpu_model.light = light;
             self.last_camera = Some((camera, light));
             let scale = stage.render_scale.scale();
-            self.view3d.draw(&mut self.renderer, &stage.gpu_model, stage.shading.as_ref(), rect, h as i32, scale)?;
+            let (stage, env) = (&self.studio.stage, self.studio.environment());
+            let lighting = env.lighting();
+            let develop = env.develop();
+            self.view3d.draw(
+                &mut self.renderer,
+                &stage.gpu_model,
+                stage.shading.as_ref(),
+                lighting.as_ref(),
+                develop,
+                rect,
+                h as i32,
+                scale,
+            )?;
+            self.studio.view_drawn();
             // SAFETY: waits for the GPU, to split the frame time into the view and the panel.
             unsafe { self.gl.finish() };
         }
@@ -428,6 +453,10 @@ impl Running {
             material: self.studio.material_name().to_string(),
             background: b,
             frames: self.frames,
+            environment: self.studio.environment().name().to_string(),
+            env_rotate_deg: self.studio.environment().rotate_deg,
+            exposure: self.studio.environment().ev,
+            env_samples: self.studio.environment().samples_now(),
             render_scale: stage.render_scale.scale(),
             render_scale_auto: stage.render_scale.is_auto(),
             frame_ms: stage.render_scale.median_frame_ms(),

@@ -10,7 +10,8 @@ use glow::HasContext;
 
 use crate::error::{Error, Result};
 use crate::gl::{header, Framebuffer, Gl, Program, VertexArray};
-use crate::render::{GpuScene, GpuShading, Renderer};
+use crate::images::tone::Tonemap;
+use crate::render::{GpuScene, GpuShading, Lighting, Renderer};
 
 const BLIT_VERT: &str = r#"
 // A triangle covering the viewport; no vertex buffer.
@@ -25,7 +26,44 @@ uniform sampler2D u_image;   // linear RGBA, the view's pixels
 uniform ivec2 u_origin;      // window pixel of the image's lower-left corner
 uniform vec2 u_ratio;        // image texels per window pixel (1 at full resolution)
 uniform vec3 u_background;   // sRGB-encoded
+uniform float u_exposure;    // linear scale, 2^EV (1 without an environment)
+uniform int u_tonemap;       // 0 clamp, 1 Khronos PBR Neutral, 2 ACES (Hill): images::tone
+uniform int u_opaque;        // 1: the image covers the view (the environment behind the object)
 layout(location = 0) out vec4 o_color;
+
+// images::tone's operators, transcribed: the window shows what `render` writes to a PNG.
+vec3 pbr_neutral(vec3 c) {
+    const float start = 0.8 - 0.04;
+    const float desaturation = 0.15;
+    float x = min(c.r, min(c.g, c.b));
+    float offset = x < 0.08 ? x - 6.25 * x * x : 0.04;
+    c -= offset;
+    float peak = max(c.r, max(c.g, c.b));
+    if (peak < start) return c;
+    float d = 1.0 - start;
+    float new_peak = 1.0 - d * d / (peak + d - start);
+    c *= new_peak / peak;
+    float g = 1.0 - 1.0 / (desaturation * (peak - new_peak) + 1.0);
+    return mix(c, vec3(new_peak), g);
+}
+
+vec3 aces_hill(vec3 c) {
+    vec3 v = vec3(dot(vec3(0.59719, 0.35458, 0.04823), c), dot(vec3(0.07600, 0.90834, 0.01566), c),
+                  dot(vec3(0.02840, 0.13383, 0.83777), c));
+    vec3 a = v * (v + 0.0245786) - 0.000090537;
+    vec3 b = v * (0.983729 * v + 0.432951) + 0.238081;
+    v = a / b;
+    vec3 o = vec3(dot(vec3(1.60475, -0.53108, -0.07367), v), dot(vec3(-0.10208, 1.10813, -0.00605), v),
+                  dot(vec3(-0.00327, -0.07276, 1.07602), v));
+    return clamp(o, 0.0, 1.0);
+}
+
+vec3 develop(vec3 c) {
+    c = max(c * u_exposure, vec3(0.0));
+    if (u_tonemap == 1) return pbr_neutral(c);
+    if (u_tonemap == 2) return aces_hill(c / 0.6);
+    return min(c, vec3(1.0));
+}
 
 // The sRGB transfer function, linear to encoded (IEC 61966-2-1), after clamping to [0, 1].
 vec3 encode(vec3 x) {
@@ -52,7 +90,8 @@ void main() {
         vec4 hi = mix(texelFetch(u_image, ivec2(i0.x, i1.y), 0), texelFetch(u_image, i1, 0), f.x);
         c = mix(lo, hi, f.y);
     }
-    o_color = vec4(mix(u_background, encode(c.rgb), clamp(c.a, 0.0, 1.0)), 1.0);
+    vec3 shown = encode(develop(c.rgb));
+    o_color = vec4(u_opaque == 1 ? shown : mix(u_background, shown, clamp(c.a, 0.0, 1.0)), 1.0);
 }
 "#;
 
@@ -66,6 +105,24 @@ pub struct WindowRect {
     pub y: i32,
     pub width: i32,
     pub height: i32,
+}
+
+/// How the view's linear pixels become the window's: the exposure and tone mapping `render`
+/// develops its PNGs with (`images::tone`), and whether the image covers the whole view.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Develop {
+    /// Linear scale, $2^{EV}$.
+    pub scale: f32,
+    pub tonemap: Tonemap,
+    /// The environment is drawn behind the object: no viewer background under alpha 0.
+    pub opaque: bool,
+}
+
+impl Default for Develop {
+    /// The view as it always was: the material's values, clamped, on the viewer's background.
+    fn default() -> Develop {
+        Develop { scale: 1.0, tonemap: Tonemap::None, opaque: false }
+    }
 }
 
 /// The 3D view: its float target and the copy program.
@@ -86,7 +143,9 @@ impl View3d {
     }
 
     /// Draws `scene` with `shading` into `rect` of a window `window_height` pixels tall (the
-    /// default framebuffer, which is left bound). Without a shading, only the background.
+    /// default framebuffer, which is left bound), under `lighting` when there is one (the
+    /// renderer's environment pass) and developed by `develop`. Without a shading, only the
+    /// background.
     /// `scale` (clamped to [`MIN_SCALE`]..=1) renders the model at that fraction of the
     /// rectangle's resolution and magnifies it: on a software rasterizer the 3D pass costs in
     /// proportion to its pixels.
@@ -95,6 +154,8 @@ impl View3d {
         renderer: &mut Renderer,
         scene: &GpuScene,
         shading: Option<&GpuShading>,
+        lighting: Option<&Lighting>,
+        develop: Develop,
         rect: WindowRect,
         window_height: i32,
         scale: f32,
@@ -108,8 +169,10 @@ impl View3d {
         let target = Framebuffer::sized(&mut self.target, &self.gl, w, h)?;
         target.begin_pass();
         let gl = &self.gl;
-        if let Some(shading) = shading {
-            renderer.draw_factored(scene, shading, w, h)?;
+        match (shading, lighting) {
+            (Some(shading), Some(lighting)) => renderer.draw_lit(scene, shading, lighting, w, h)?,
+            (Some(shading), None) => renderer.draw_factored(scene, shading, w, h)?,
+            (None, _) => {}
         }
         // Copy into the window: GL's window origin is the lower-left corner.
         let origin_y = window_height - (rect.y + rect.height);
@@ -132,6 +195,15 @@ impl View3d {
             unsafe { gl.uniform_2_f32(Some(&loc), w as f32 / rect.width as f32, h as f32 / rect.height as f32) };
         }
         self.blit.set_vec3("u_background", glam::Vec3::from_array(self.background));
+        self.blit.set_f32("u_exposure", develop.scale);
+        let tonemap = match develop.tonemap {
+            Tonemap::None => 0,
+            Tonemap::Neutral => 1,
+            Tonemap::Aces => 2,
+        };
+        self.blit.set_i32("u_tonemap", tonemap);
+        // Without a material nothing is drawn under the environment either: keep the background.
+        self.blit.set_i32("u_opaque", (develop.opaque && shading.is_some()) as i32);
         self.vao.bind();
         // SAFETY: a bound program and vertex array; three vertices from gl_VertexID.
         unsafe { gl.draw_arrays(glow::TRIANGLES, 0, 3) };

@@ -16,7 +16,7 @@ mod studio;
 pub use app::{run, Options, ScreenshotInfo};
 pub use display::{WindowRect, MIN_SCALE as MIN_RENDER_SCALE};
 pub use studio::shortcuts::{take_shortcuts, Shortcut};
-pub use studio::{Layout, Mode, Stage, Start, Studio, Timings, Tool, PANEL_WIDTH};
+pub use studio::{Env, EnvStart, Layout, Mode, Stage, Start, Studio, Timings, Tool, PANEL_WIDTH};
 
 /// Loads `view --scene`'s scene. The scene loader's hints name `render`'s and `fit`'s
 /// options (`--model` with `--preset`); `view` has none of those, so a scene without a

@@ -5,6 +5,7 @@ use std::time::Instant;
 use egui::{Color32, ColorImage, PointerButton, Pos2, Rect, Sense, Stroke, TextureHandle, TextureOptions, Vec2};
 
 use super::easel::Easel;
+use super::environment::DEGREES_PER_POINT;
 use super::tools::Tool;
 use super::{short, Mode, Studio};
 use crate::images::linear_to_srgb;
@@ -35,8 +36,11 @@ impl Studio {
         self.layout.view_rect = Some(px);
         let response = ui.interact(rect, ui.scope_id().with("3d view"), Sense::click_and_drag());
         let d = response.drag_delta();
-        let shift = ui.input(|i| i.modifiers.shift);
-        if response.dragged_by(PointerButton::Primary) && !shift {
+        let (shift, alt) = ui.input(|i| (i.modifiers.shift, i.modifiers.alt));
+        if response.dragged_by(PointerButton::Primary) && alt {
+            // Alt: Shift is taken by pan, the right button by the light.
+            self.env.turn(d.x * DEGREES_PER_POINT);
+        } else if response.dragged_by(PointerButton::Primary) && !shift {
             self.stage.orbit.rotate(d.x * 0.01, d.y * 0.01);
         } else if response.dragged_by(PointerButton::Middle) || (response.dragged_by(PointerButton::Primary) && shift) {
             self.stage.orbit.pan(d.x, d.y, rect.height());
@@ -47,8 +51,11 @@ impl Studio {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
                 self.stage.orbit.zoom((-scroll * 0.002).exp());
+                self.env.moving = true;
             }
         }
+        // A moving view takes fewer environment directions (environment module docs).
+        self.env.moving |= response.dragged() && d != Vec2::ZERO;
         // The light's direction, drawn as a small sun beside the object.
         let camera = self.stage.orbit.camera(rect.width() / rect.height());
         if let Ok(view) = crate::render::View::new(&camera, px.width as usize, px.height as usize) {

@@ -15,6 +15,7 @@
 mod catalogue;
 mod central;
 mod easel;
+mod environment;
 mod fit_controls;
 mod panel;
 pub mod shortcuts;
@@ -45,6 +46,7 @@ use crate::material::Material;
 use crate::render::Renderer;
 use crate::scene::{model_meshes, CpuMesh, Scene};
 
+pub use self::environment::{Env, EnvStart};
 pub use self::stage::Stage;
 pub use self::status::Timings;
 pub use self::tools::Tool;
@@ -106,6 +108,7 @@ pub struct Studio {
     canvas_textures: CanvasTextures,
     save_material: String,
     sphere: sphere::Sphere,
+    env: Env,
     pub layout: Layout,
 }
 
@@ -131,6 +134,7 @@ impl Studio {
             canvas_textures: CanvasTextures::default(),
             save_material: "material".into(),
             sphere: Default::default(),
+            env: Env::default(),
             layout: Layout { pixels_per_point: 1.0, ..Layout::default() },
         };
         match start.scene {
@@ -235,7 +239,12 @@ impl Studio {
 
     /// Whether frames should keep coming without input.
     pub fn busy(&self) -> bool {
-        self.easel.refine_needed || self.easel.canvas_changed
+        self.easel.refine_needed || self.easel.canvas_changed || self.env.owed()
+    }
+
+    /// The 3D view was drawn (the environment's directions for the next frame).
+    pub fn view_drawn(&mut self) {
+        self.env.drawn();
     }
 
     /// Whether a prepare (or a lit sphere's view under a new light) is made in the
@@ -393,12 +402,21 @@ impl Studio {
                 self.note(format!("opened model {}", path.display()));
                 Ok(())
             }
+            "hdr" => self.open_environment(renderer, path),
+            "exr" if self.is_panorama(path) => self.open_environment(renderer, path),
             "png" | "jpg" | "jpeg" | "exr" => self.open_picture(renderer, path),
             _ => Err(Error::input(format!(
-                "{}: not a model (.glb, .gltf), a material (directory or material.json) or a picture (.png, .jpg, .exr)",
+                "{}: not a model (.glb, .gltf), a material (directory or material.json), a picture (.png, .jpg, .exr) or an environment (.hdr, .exr)",
                 path.display()
             ))),
         }
+    }
+
+    /// A dropped EXR is an environment when it reads as one (2:1, HDR, valid) and the active
+    /// view, not being 2:1 itself, could not take it as a painting.
+    fn is_panorama(&self, path: &Path) -> bool {
+        let view_is_2_to_1 = self.easel.session.views.get(self.easel.active).is_some_and(|v| v.width == 2 * v.height);
+        !view_is_2_to_1 && crate::images::env::Environment::load(path).is_ok()
     }
 
     /// Loads a painting file into the active view.

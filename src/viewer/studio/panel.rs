@@ -20,7 +20,7 @@ const FRAME_60HZ_MS: f64 = 1000.0 / 60.0;
 
 /// A label in a column of its own width, then `add` in the rest of the row: labels never
 /// share a line with a widget that squeezes them into wrapping mid-word.
-fn labelled<R>(ui: &mut egui::Ui, label: &str, add: impl FnOnce(&mut egui::Ui) -> R) -> R {
+pub(super) fn labelled<R>(ui: &mut egui::Ui, label: &str, add: impl FnOnce(&mut egui::Ui) -> R) -> R {
     ui.horizontal(|ui| {
         ui.add_sized([LABEL_WIDTH, ui.spacing().interact_size.y], egui::Label::new(label).truncate());
         add(ui)
@@ -29,7 +29,7 @@ fn labelled<R>(ui: &mut egui::Ui, label: &str, add: impl FnOnce(&mut egui::Ui) -
 }
 
 /// Width left for a combo box after its label, points.
-fn combo_width(ui: &egui::Ui) -> f32 {
+pub(super) fn combo_width(ui: &egui::Ui) -> f32 {
     (ui.available_width() - LABEL_WIDTH - 2.0 * ui.spacing().item_spacing.x - 20.0).max(60.0)
 }
 
@@ -46,6 +46,7 @@ impl Studio {
         egui::CollapsingHeader::new("Model and material").default_open(true).show(ui, |ui| self.catalogue_ui(renderer, ui));
         self.sphere_panel(renderer, ui);
         egui::CollapsingHeader::new("Camera and light").default_open(true).show(ui, |ui| self.camera_ui(ui));
+        egui::CollapsingHeader::new("Environment").default_open(true).show(ui, |ui| self.environment_ui(renderer, ui));
         egui::CollapsingHeader::new("Fit").default_open(true).show(ui, |ui| {
             let change = self.fit.ui(ui);
             let settings = self.fit_settings();
@@ -100,7 +101,7 @@ impl Studio {
     }
 
     fn camera_ui(&mut self, ui: &mut egui::Ui) {
-        ui.small("Drag: orbit · Shift/middle-drag: pan · wheel: zoom · right-drag: move the light");
+        ui.small("Drag: orbit · Shift/middle-drag: pan · wheel: zoom · right-drag: move the light · Alt-drag: turn the environment");
         let light = &mut self.stage.light;
         let mut az = light.azimuth.to_degrees();
         let mut el = light.elevation.to_degrees();
