@@ -144,6 +144,14 @@ impl Harness {
         hit.1.center()
     }
 
+    /// The centre of the first text `label` drawn below the text `above` (a row's label).
+    fn find_after(&self, label: &str, above: &str) -> Pos2 {
+        let y = self.find(above).y - 2.0;
+        let texts = self.texts();
+        let hit = texts.iter().find(|t| t.0 == label && t.1.center().y >= y);
+        hit.unwrap_or_else(|| panic!("no text '{label}' drawn below '{above}'")).1.center()
+    }
+
     /// Puts egui's keyboard focus on a widget that is not a text field, the way a user's
     /// Shift+Tab does (egui's own focus navigation; the viewer leaves Shift+Tab to egui).
     fn focus_a_button(&mut self) {
@@ -365,5 +373,72 @@ fn a_dropped_painting_of_the_sphere_view_asks_whether_it_is_a_lit_sphere() {
     h.click(answer);
     assert!(h.studio.lit_sphere().is_none());
     assert!(h.studio.status().contains("sphere-view.png"), "{}", h.studio.status());
+    assert!(h.studio.error().is_none(), "{:?}", h.studio.error());
+}
+
+/// The middle of the 3D view.
+fn view_centre(h: &Harness) -> Pos2 {
+    let v = h.studio.layout.view_rect.expect("a 3D view");
+    Pos2::new(v.x as f32 + v.width as f32 / 2.0, v.y as f32 + v.height as f32 / 2.0)
+}
+
+#[test]
+fn an_environment_chosen_in_the_panel_turns_by_the_alt_dragged_angle_and_a_plain_drag_orbits() {
+    let mut h = Harness::new(Mode::View);
+    assert_eq!(h.studio.environment().name(), "none");
+    let menu = h.find_after("none", "environment");
+    h.click(menu);
+    h.frame(vec![]);
+    let city = h.find("city");
+    h.click(city);
+    assert_eq!(h.studio.environment().name(), "city", "{}", h.studio.status());
+    assert!(h.studio.error().is_none(), "{:?}", h.studio.error());
+    assert!(h.studio.status().contains("environment city"), "{}", h.studio.status());
+
+    let c = view_centre(&h);
+    let yaw = h.studio.stage.orbit.yaw;
+    h.frame(vec![Event::ModifiersChanged(Modifiers::ALT)]);
+    h.drag(c, c + egui::vec2(100.0, 0.0));
+    h.frame(vec![Event::ModifiersChanged(Modifiers::NONE)]);
+    // 0.5° per point dragged; egui's drag starts a few points in, so allow one step of the drag.
+    let turned = h.studio.environment().rotate_deg;
+    assert!((turned - 50.0).abs() <= 6.25 + 1e-3, "Alt-drag by 100 points turned the environment {turned}°");
+    assert_eq!(h.studio.stage.orbit.yaw, yaw, "Alt-drag does not orbit the camera");
+    // Back the other way: the same angle the other way.
+    h.frame(vec![Event::ModifiersChanged(Modifiers::ALT)]);
+    h.drag(c, c - egui::vec2(100.0, 0.0));
+    h.frame(vec![Event::ModifiersChanged(Modifiers::NONE)]);
+    assert!(h.studio.environment().rotate_deg.abs() <= 1e-3, "{}", h.studio.environment().rotate_deg);
+
+    h.drag(c, c + egui::vec2(100.0, 0.0));
+    assert!(h.studio.environment().rotate_deg.abs() <= 1e-3, "a plain drag leaves the environment");
+    assert_ne!(h.studio.stage.orbit.yaw, yaw, "a plain drag orbits");
+    // A still frame with the full count of directions follows the moving ones.
+    assert!(!h.studio.busy() || h.studio.environment().samples_now() == h.studio.environment().samples);
+}
+
+#[test]
+fn a_dropped_bad_hdr_keeps_the_environment_and_says_why_in_one_line() {
+    let mut h = Harness::new(Mode::View);
+    let menu = h.find_after("none", "environment");
+    h.click(menu);
+    h.frame(vec![]);
+    let sunset = h.find("sunset");
+    h.click(sunset);
+    assert_eq!(h.studio.environment().name(), "sunset");
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("broken.hdr");
+    std::fs::write(&bad, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 8\n\x02\x02").unwrap();
+    h.frame_with_drops(vec![], vec![bad.clone()]);
+    h.frame(vec![]);
+    assert_eq!(h.studio.environment().name(), "sunset", "the previous environment stays");
+    let e = h.studio.error().expect("an error line").to_string();
+    assert!(!e.contains('\n') && e.contains("broken.hdr"), "one line naming the file: {e}");
+    // A good one dropped after it is taken, and clears the error.
+    let good = dir.path().join("grey.hdr");
+    let img = image::Rgb32FImage::from_pixel(16, 8, image::Rgb([0.5, 0.5, 0.5]));
+    img.save(&good).unwrap();
+    h.frame_with_drops(vec![], vec![good.clone()]);
+    assert_eq!(h.studio.environment().name(), good.display().to_string());
     assert!(h.studio.error().is_none(), "{:?}", h.studio.error());
 }

@@ -70,6 +70,10 @@ pub(super) struct ViewArgs {
     /// Tone mapping under the environment: neutral (default), aces or none.
     #[arg(long, value_name = "NAME", requires = "env", value_parser = Tonemap::NAMES)]
     tonemap: Option<String>,
+    /// Environment directions per pixel when the view is still (8 to 1024; default 64, also
+    /// in the panel); a moving view takes 16.
+    #[arg(long, value_name = "N", requires = "env")]
+    env_samples: Option<usize>,
     /// With --frames: keep the window open this many seconds after the last frame.
     #[arg(long, value_name = "SECONDS", default_value_t = 0.0, requires = "frames")]
     hold: f64,
@@ -115,7 +119,16 @@ pub(super) fn run(args: ViewArgs) -> Result<()> {
                 return Err(Error::input(format!("--exposure {ev}: give a number of stops from -64 to 64")));
             }
             let tonemap = args.tonemap.as_deref().map(Tonemap::parse).transpose()?.unwrap_or(Tonemap::Neutral);
-            Some(EnvStart { name: name.clone(), environment, rotate_deg, ev, tonemap })
+            let samples = args.env_samples.unwrap_or(brdfpaint::render::env::DEFAULT_SAMPLES);
+            let range = brdfpaint::render::env::SAMPLES;
+            if !range.contains(&samples) {
+                return Err(Error::input(format!(
+                    "--env-samples {samples}: give {} to {} directions per pixel",
+                    range.start(),
+                    range.end()
+                )));
+            }
+            Some(EnvStart { name: name.clone(), environment, rotate_deg, ev, tonemap, samples })
         }
         None => None,
     };

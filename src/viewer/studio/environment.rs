@@ -48,6 +48,8 @@ pub struct EnvStart {
     pub rotate_deg: f32,
     pub ev: f32,
     pub tonemap: Tonemap,
+    /// Directions per pixel when still ([`crate::render::env::SAMPLES`]).
+    pub samples: usize,
 }
 
 /// The viewer's environment: which one, on the GPU, and how it is shown.
@@ -213,6 +215,10 @@ impl Studio {
         }
         self.env.ev = start.ev;
         self.env.tonemap = start.tonemap;
+        if !crate::render::env::SAMPLES.contains(&start.samples) {
+            return Err(Error::input(format!("{} environment directions per pixel: give 8 to 1024", start.samples)));
+        }
+        self.env.samples = start.samples;
         Ok(())
     }
 
@@ -274,7 +280,8 @@ impl Studio {
         let mut samples = env.samples;
         labelled(ui, "directions", |ui| {
             egui::ComboBox::from_id_salt("directions").width(width).selected_text(samples.to_string()).show_ui(ui, |ui| {
-                for n in STILL_SAMPLES {
+                // A count from `view --env-samples` outside the steps stays choosable.
+                for n in STILL_SAMPLES.into_iter().chain((!STILL_SAMPLES.contains(&env.samples)).then_some(env.samples)) {
                     ui.selectable_value(&mut samples, n, n.to_string());
                 }
             });
