@@ -310,3 +310,63 @@ fn a_render_scale_outside_its_range_is_one_clear_line() {
         assert!(!out.status.success() && err.lines().count() == 1 && err.contains("render"), "{bad}: {err}");
     }
 }
+
+/// The viewer under a bundled environment, turned and exposed, shows what `render --env`
+/// writes for the same material, camera, key light, rotation and exposure: the command line's
+/// own path (a glTF scene of the viewer's camera and light, the PNG development) against the
+/// window's (the 3D view's target, developed in the copy shader).
+#[test]
+fn the_window_under_an_environment_matches_render_env() {
+    if !have("xvfb-run") {
+        eprintln!("SKIPPED the_window_under_an_environment_matches_render_env: xvfb-run is not installed (apt-get install xvfb xauth; .ci/run does)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let material = fitted_material(dir.path());
+    let shot = dir.path().join("env.png");
+    let args = ["--env", "city", "--env-rotate", "30", "--exposure", "0.5", "--render-scale", "1"];
+    let (image, info) = screenshot(&material, &args, &shot);
+    let r = &info.view_rect;
+    let camera = Camera {
+        world_from_camera: Mat4::from_cols_array(&info.world_from_camera),
+        projection: Projection::Perspective { yfov: info.yfov, aspect: None, znear: info.znear, zfar: Some(info.zfar) },
+    };
+    let light = Light::Directional {
+        direction: Vec3::from_array(info.light_direction),
+        color: Vec3::from_array(info.light_color),
+        intensity: info.light_intensity,
+    };
+    let scene = Scene { meshes: builtin_model("sphere").unwrap(), camera, light };
+    let gltf = dir.path().join("view.gltf");
+    scene.write_gltf(&gltf).unwrap();
+    let out = dir.path().join("render.png");
+    let env = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/hdri/city.exr");
+    let size = format!("{}x{}", r.width, r.height);
+    let run = Command::new(env!("CARGO_BIN_EXE_brdfpaint"))
+        .args(["render".as_ref(), material.as_os_str(), "--scene".as_ref(), gltf.as_os_str(), "--size".as_ref(), size.as_ref()])
+        .args(["--env".as_ref(), env.as_os_str(), "--env-rotate".as_ref(), "30".as_ref(), "--exposure".as_ref(), "0.5".as_ref()])
+        .args(["--out".as_ref(), out.as_os_str()])
+        .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "render --env failed: {}", String::from_utf8_lossy(&run.stderr));
+    let want = image::open(&out).unwrap().into_rgb8();
+    // The egui overlays on the view (the name at the top left, the light's sun and its line)
+    // are left out: the top 40 rows, and a generous band around the line to the sun.
+    let (mut checked, mut close, mut worst) = (0usize, 0usize, 0i32);
+    for j in (40..r.height).step_by(3) {
+        for i in (0..r.width).step_by(3) {
+            let got = image.get_pixel((r.x + i) as u32, (r.y + j) as u32).0;
+            let w = want.get_pixel(i as u32, j as u32).0;
+            let err = (0..3).map(|c| (got[c] as i32 - w[c] as i32).abs()).max().unwrap();
+            checked += 1;
+            close += (err <= 3) as usize;
+            worst = worst.max(err);
+        }
+    }
+    // The sun and its line cover well under 1% of the view.
+    assert!(close as f64 >= 0.99 * checked as f64, "{close} of {checked} pixels within 3 levels of render --env (worst {worst})");
+    // And the environment is really there: the view is not the viewer's flat background.
+    let flat = (0..r.width).step_by(5).filter(|&i| image.get_pixel((r.x + i) as u32, (r.y + r.height - 5) as u32).0 == info.background).count();
+    assert!(flat < (r.width / 5) as usize / 2, "the bottom row shows the environment, not the flat background");
+}
