@@ -71,7 +71,7 @@ pub(super) struct ViewArgs {
     #[arg(long, value_name = "NAME", requires = "env", value_parser = Tonemap::NAMES)]
     tonemap: Option<String>,
     /// Environment directions per pixel when the view is still (8 to 1024; default 64, also
-    /// in the panel); a moving view takes 16.
+    /// in the panel); a moving view takes 8.
     #[arg(long, value_name = "N", requires = "env")]
     env_samples: Option<usize>,
     /// With --frames: keep the window open this many seconds after the last frame.

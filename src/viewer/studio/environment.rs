@@ -24,9 +24,10 @@ use crate::images::tone::{exposure_scale, Tonemap};
 use crate::render::env::DEFAULT_SAMPLES;
 use crate::render::{Background, GpuEnvironment, Lighting, Renderer};
 
-/// Directions per pixel while the view moves: a quarter of the default, about four times
-/// faster on llvmpipe; the softer highlights it leaves are gone on the next still frame.
-pub const MOVING_SAMPLES: usize = 16;
+/// Directions per pixel while the view moves: the fewest that give each strategy one (an
+/// eighth of the default), 3.7× the frame rate of 64 on llvmpipe (BENCHMARKS.md); the
+/// softer highlights it leaves are gone on the next still frame.
+pub const MOVING_SAMPLES: usize = 8;
 
 /// Directions per pixel a still view may take (each count compiles its own programs, so
 /// a few steps rather than a slider).
