@@ -18,7 +18,7 @@ use winit::event::{StartCause, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::window::{Window, WindowId};
 
-use super::display::{read_window, WindowRect, View3d};
+use super::display::{read_window, Subject, WindowRect, View3d};
 use super::studio::EnvStart;
 use super::studio::{Mode, Start, Studio};
 use crate::error::{Error, Result};
@@ -382,18 +382,9 @@ impl Running {
             self.last_camera = Some((camera, light));
             let scale = stage.render_scale.scale();
             let (stage, env) = (&self.studio.stage, self.studio.environment());
-            let lighting = env.lighting();
-            let develop = env.develop();
-            self.view3d.draw(
-                &mut self.renderer,
-                &stage.gpu_model,
-                stage.shading.as_ref(),
-                lighting.as_ref(),
-                develop,
-                rect,
-                h as i32,
-                scale,
-            )?;
+            let subject = Subject { scene: &stage.gpu_model, shading: stage.shading.as_ref(), lighting: env.lighting() };
+            self.view3d.develop = env.develop();
+            self.view3d.draw(&mut self.renderer, &subject, rect, h as i32, scale)?;
             self.studio.view_drawn();
             // SAFETY: waits for the GPU, to split the frame time into the view and the panel.
             unsafe { self.gl.finish() };

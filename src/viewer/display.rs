@@ -125,6 +125,14 @@ impl Default for Develop {
     }
 }
 
+/// What the 3D view draws: the model, its material (none: only the background) and, under
+/// an environment, how it is lit.
+pub struct Subject<'a> {
+    pub scene: &'a GpuScene,
+    pub shading: Option<&'a GpuShading>,
+    pub lighting: Option<Lighting<'a>>,
+}
+
 /// The 3D view: its float target and the copy program.
 pub struct View3d {
     gl: Gl,
@@ -133,18 +141,20 @@ pub struct View3d {
     vao: VertexArray,
     /// sRGB-encoded background, 0..1.
     pub background: [f32; 3],
+    /// How the next draw develops its pixels (set per frame, as the environment changes).
+    pub develop: Develop,
 }
 
 impl View3d {
     pub fn new(gl: &Gl) -> Result<View3d> {
         let head = header(gl, &[]);
         let blit = Program::new(gl, "view blit", &format!("{head}{BLIT_VERT}"), &format!("{head}{BLIT_FRAG}"))?;
-        Ok(View3d { gl: gl.clone(), target: None, blit, vao: VertexArray::new(gl)?, background: [0.16, 0.17, 0.19] })
+        Ok(View3d { gl: gl.clone(), target: None, blit, vao: VertexArray::new(gl)?, background: [0.16, 0.17, 0.19], develop: Develop::default() })
     }
 
-    /// Draws `scene` with `shading` into `rect` of a window `window_height` pixels tall (the
-    /// default framebuffer, which is left bound), under `lighting` when there is one (the
-    /// renderer's environment pass) and developed by `develop`. Without a shading, only the
+    /// Draws the subject's scene with its shading into `rect` of a window `window_height`
+    /// pixels tall (the default framebuffer, which is left bound), under its lighting when
+    /// there is one (the renderer's environment pass) and developed by [`View3d::develop`]. Without a shading, only the
     /// background.
     /// `scale` (clamped to [`MIN_SCALE`]..=1) renders the model at that fraction of the
     /// rectangle's resolution and magnifies it: on a software rasterizer the 3D pass costs in
@@ -152,10 +162,7 @@ impl View3d {
     pub fn draw(
         &mut self,
         renderer: &mut Renderer,
-        scene: &GpuScene,
-        shading: Option<&GpuShading>,
-        lighting: Option<&Lighting>,
-        develop: Develop,
+        subject: &Subject,
         rect: WindowRect,
         window_height: i32,
         scale: f32,
@@ -169,7 +176,8 @@ impl View3d {
         let target = Framebuffer::sized(&mut self.target, &self.gl, w, h)?;
         target.begin_pass();
         let gl = &self.gl;
-        match (shading, lighting) {
+        let (scene, shading) = (subject.scene, subject.shading);
+        match (shading, subject.lighting.as_ref()) {
             (Some(shading), Some(lighting)) => renderer.draw_lit(scene, shading, lighting, w, h)?,
             (Some(shading), None) => renderer.draw_factored(scene, shading, w, h)?,
             (None, _) => {}
@@ -195,6 +203,7 @@ impl View3d {
             unsafe { gl.uniform_2_f32(Some(&loc), w as f32 / rect.width as f32, h as f32 / rect.height as f32) };
         }
         self.blit.set_vec3("u_background", glam::Vec3::from_array(self.background));
+        let develop = self.develop;
         self.blit.set_f32("u_exposure", develop.scale);
         let tonemap = match develop.tonemap {
             Tonemap::None => 0,
