@@ -7,7 +7,7 @@
 //! develops its PNGs ([`crate::images::tone`]).
 //!
 //! The pass costs tens of point-light frames on a software rasterizer, so while the view
-//! moves (a drag, the wheel, the rotation slider) it takes [`MOVING_SAMPLES`] directions per
+//! moves (a drag, the wheel, the rotation slider, a stroke being painted) it takes [`MOVING_SAMPLES`] directions per
 //! pixel, and the full count again on the first still frame.
 //!
 //! [`Renderer::draw_lit`]: crate::render::Renderer::draw_lit

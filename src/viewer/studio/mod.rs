@@ -295,6 +295,9 @@ impl Studio {
                 Err(e) => self.status.fail(format!("refit: {e} (keeping the last material)")),
             }
         }
+        // A stroke in progress redraws every frame: under an environment it takes the moving
+        // count of directions, and the full count when the stroke ends.
+        self.env.moving |= self.easel.any_stroking();
         let material = self.catalogue.current(&self.easel.session);
         match self.stage.upload(renderer, material) {
             Ok(Some(ms)) if self.meter.pending.is_some() => self.meter.timings.upload_ms = ms,
