@@ -305,7 +305,7 @@ mod tests {
     }
 
     #[test]
-    fn a_moving_view_takes_fewer_directions_and_owes_a_full_frame() {
+    fn a_moving_view_takes_fewer_directions() {
         let mut env = Env { moving: true, ..Env::default() };
         assert_eq!(env.samples_now(), MOVING_SAMPLES);
         env.moving = false;
