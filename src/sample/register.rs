@@ -173,6 +173,8 @@ const BASIS: usize = 7;
 /// Relative RMS of a least-squares fit of luminance by [`basis`] to (l, v, luminance)
 /// samples. Each is weighted by 1 / (its value + `floor`), so dark and bright regions count
 /// alike, as in the relative RMS a fit reports.
+// Index loops: a small dense matrix reads clearest by its indices.
+#[allow(clippy::needless_range_loop)]
 fn proxy(samples: impl Iterator<Item = (DVec3, DVec3, f64)> + Clone, floor: f64) -> f64 {
     let mut a = [[0.0f64; BASIS]; BASIS];
     let mut r = [0.0f64; BASIS];
@@ -204,6 +206,7 @@ fn proxy(samples: impl Iterator<Item = (DVec3, DVec3, f64)> + Clone, floor: f64)
 
 /// Solves a small dense system by Gaussian elimination with partial pivoting (and a tiny
 /// ridge, so an unused basis function does not make it singular).
+#[allow(clippy::needless_range_loop)]
 fn solve_small<const N: usize>(mut a: [[f64; N]; N], mut r: [f64; N]) -> Option<[f64; N]> {
     let scale = (0..N).map(|i| a[i][i]).fold(0.0, f64::max).max(1e-300);
     for (i, row) in a.iter_mut().enumerate() {
