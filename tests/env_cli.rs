@@ -1,10 +1,10 @@
 //! `brdfpaint render --env`: environment files (OpenEXR and Radiance .hdr), bad input as
 //! one line with nothing written, usage errors, exposure and tone mapping.
 
+mod cli_common;
 mod gl_common;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use brdfpaint::factor::{Domain, Input, LogMap, Param};
 use brdfpaint::images::env::Environment;
@@ -13,13 +13,11 @@ use brdfpaint::images::{encode_srgb8, Rgb};
 use brdfpaint::material::{Factor, Term};
 use gl_common::{smooth_factor, spec, uniform};
 
+/// `brdfpaint` as a user runs it (`cli_common`), with a prepare cache of its own.
 fn brdfpaint(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_brdfpaint"))
-        .args(args)
-        .env("LIBGL_ALWAYS_SOFTWARE", "1")
-        .output()
-        .expect("run brdfpaint");
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+    let cache = tempfile::tempdir().expect("a cache directory");
+    let run = cli_common::brdfpaint(cache.path(), args);
+    (run.code, run.stdout, run.stderr)
 }
 
 fn s(p: &Path) -> &str {

@@ -261,6 +261,20 @@ pub fn table(cases: &[Case]) -> String {
 /// Frame sizes of the GL cases.
 const GL_SIZES: [usize; 2] = [512, 1024];
 
+/// The GL cases' material source: the analytic GGX shader's own material (`Ggx::default`)
+/// as the CPU model, shaded at 7,884 sphere samples (a painting's worth).
+fn ggx_painting() -> (crate::factor::Pattern, Vec<[f64; 3]>) {
+    let ggx = Ggx::default();
+    let model = Analytic::Ggx {
+        diffuse: ggx.diffuse.as_dvec3().to_array(),
+        f0: ggx.f0.as_dvec3().to_array(),
+        roughness: ggx.roughness as f64,
+    };
+    let pattern = sphere_pattern(7884);
+    let values = pattern.shade(|q| model.shading(q));
+    (pattern, values)
+}
+
 /// The GL cases: frame time of the factored shader against the analytic GGX shader, the
 /// same mesh (the bunny, front-left preset) and image size, measured side by side in one
 /// run by [`frame_times`] (frames interleaved, medians, `glFinish` per
@@ -276,13 +290,7 @@ pub fn gl_cases(quick: bool) -> Result<(Vec<Case>, String)> {
     use crate::scene::Scene;
 
     let ggx = Ggx::default();
-    let model = Analytic::Ggx {
-        diffuse: ggx.diffuse.as_dvec3().to_array(),
-        f0: ggx.f0.as_dvec3().to_array(),
-        roughness: ggx.roughness as f64,
-    };
-    let pattern = sphere_pattern(7884);
-    let values = pattern.shade(|q| model.shading(q));
+    let (pattern, values) = ggx_painting();
     let ctx = HeadlessContext::new()?;
     let mut renderer = Renderer::new(ctx.gl())?;
     let scene = GpuScene::upload(ctx.gl(), &Scene::from_preset("bunny", "front-left")?)?;
@@ -356,14 +364,7 @@ pub fn env_cases(quick: bool) -> Result<Vec<Case>> {
         prepared.push(gpu.expect("at least one run"));
     }
 
-    let ggx = Ggx::default();
-    let model = Analytic::Ggx {
-        diffuse: ggx.diffuse.as_dvec3().to_array(),
-        f0: ggx.f0.as_dvec3().to_array(),
-        roughness: ggx.roughness as f64,
-    };
-    let pattern = sphere_pattern(7884);
-    let values = pattern.shade(|q| model.shading(q));
+    let (pattern, values) = ggx_painting();
     let res = crate::factor::defaults::RES_1D;
     let settings = Settings::uniform(1, res);
     let fit = prepare(&pattern, &settings)?.solve(&values, Mapping::Auto)?;
