@@ -68,10 +68,14 @@ fn main() -> brdfpaint::Result<()> {
         .map(|(n, r)| (n, Box::new(move |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve_robust(v, Mapping::Auto, &r)) as Box<_>))
         .collect();
     let mut solvers: Vec<(&str, faults::Solve<'_>)> = vec![("least squares", &plain), ("robust", &robust)];
-    // `--read`: paintings read as `brdfpaint fit` reads them (tones smoothed, light
-    // registered); `--tones`, `--register`: one of the two.
+    // `--read`: paintings read as `brdfpaint fit` reads them (tones smoothed, strays left
+    // out, light registered); `--tones`, `--strays`, `--register`: one of them.
     let flag = |f: &str| args.iter().any(|a| a == f);
-    let register = Reading { smooth_tones: flag("--read") || flag("--tones"), register_light: flag("--read") || flag("--register") };
+    let register = Reading {
+        smooth_tones: flag("--read") || flag("--tones"),
+        register_light: flag("--read") || flag("--register"),
+        repaint_strays: flag("--read") || flag("--strays"),
+    };
     if args.iter().any(|a| a == "--ablate") {
         solvers = vec![("least squares", &plain)];
         solvers.extend(ablate.iter().map(|(n, f)| (*n, &**f as faults::Solve<'_>)));

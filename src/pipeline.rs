@@ -28,7 +28,7 @@ use crate::images::Rgb;
 use crate::material::map::{self, MapOptions, MapReport};
 use crate::material::{Kind, Material, Provenance};
 use crate::render::GBuffer;
-use crate::sample::{register, tones};
+use crate::sample::{register, strays, tones};
 use crate::sample::{check_same_model, report, Erosion, PaintedView, Samples, SceneSampler};
 
 /// What to fit: the material's kind, its factor tables, the log mapping, and for material
@@ -135,33 +135,65 @@ pub struct Reading {
     /// Each view's light is registered to where the painting was shaded from
     /// ([`crate::sample::register`]).
     pub register_light: bool,
+    /// Strokes that do not belong to the shading are repainted with the shading around them
+    /// ([`crate::sample::strays`]).
+    pub repaint_strays: bool,
 }
 
 impl Default for Reading {
     fn default() -> Self {
-        Reading { smooth_tones: true, register_light: true }
+        Reading { smooth_tones: true, register_light: true, repaint_strays: true }
     }
 }
 
-/// Reads painted views as `reading` says, in place: tones first (the light is registered
-/// on the smooth shading), then the light, with the 1D default product judging it. One
-/// note per change.
+/// Reads painted views as `reading` says, in place, with the 1D default product judging
+/// each step. One note per change. The order matters: flat tones are interpolated first
+/// (every later step fits the painting and a staircase misleads it); the light registered;
+/// stray strokes repainted, and if there were any the light registered again (they hide the
+/// painter's light); last the tones read again through the physical proxy under that light.
 pub fn read(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading) -> Result<Vec<String>> {
     let mut notes = Vec::new();
+    let mut toned = Vec::new();
     if reading.smooth_tones {
-        for view in views.iter_mut() {
-            if let Some(toned) = tones::smooth(view) {
-                notes.push(toned.describe(&view.name));
+        for (i, view) in views.iter_mut().enumerate() {
+            if let Some(t) = tones::smooth(view) {
+                notes.push(t.describe(&view.name));
+                toned.push((i, t));
             }
         }
     }
-    if reading.register_light {
-        let turns = register::register(views, gbuffers, &Settings::default())?;
-        for (view, turn) in views.iter().zip(&turns) {
-            if turn.moved() {
-                notes.push(register::describe(view, turn));
-            }
+    let register = |views: &mut [PaintedView]| -> Result<Vec<register::Turn>> {
+        match reading.register_light {
+            true => register::register(views, gbuffers, &Settings::default()),
+            false => Ok(Vec::new()),
         }
+    };
+    let mut turns = register(views)?;
+    if reading.repaint_strays {
+        if let Some(found) = strays::repaint(views, &Settings::default())? {
+            notes.extend(found.describe(views));
+            // A repainted stray's tone interval is the stroke's, not the shading's.
+            for (i, t) in toned.iter_mut() {
+                let repainted: std::collections::HashSet<usize> = found.per_view[*i].iter().copied().collect();
+                t.bounds.retain(|(k, _)| !repainted.contains(k));
+            }
+            // Without the strays the painter's light may show more clearly: again, from
+            // the scene's light.
+            if reading.register_light {
+                for (view, g) in views.iter_mut().zip(gbuffers) {
+                    view.geometry = register::turned(g, &view.geometry, glam::DQuat::IDENTITY);
+                }
+            }
+            turns = register(views)?;
+        }
+    }
+    for (view, turn) in views.iter().zip(&turns) {
+        if turn.moved() {
+            notes.push(register::describe(view, turn));
+        }
+    }
+    for (i, t) in &toned {
+        tones::refine(&mut views[*i], t);
     }
     Ok(notes)
 }

@@ -6,7 +6,7 @@
 use brdfpaint::brdf::Analytic;
 use brdfpaint::factor::{Mapping, Settings};
 use brdfpaint::pipeline::{self, Reading};
-use brdfpaint::sample::{register, tones, SceneSampler};
+use brdfpaint::sample::{register, strays, tones, SceneSampler};
 use brdfpaint::scene::Light;
 use brdfpaint::study::faults::{self, FaultyView, Faults};
 use brdfpaint::study::fidelity::{held_out_presets, painted_presets, StudyView};
@@ -71,7 +71,7 @@ fn a_consistent_painting_keeps_its_light() {
 #[test]
 fn registered_paintings_generalize_to_held_out_views() {
     let f = Faults::misregistered();
-    let as_given = held_out_median(&f, Reading { smooth_tones: false, register_light: false });
+    let as_given = held_out_median(&f, Reading { smooth_tones: false, register_light: false, repaint_strays: false });
     let read = held_out_median(&f, Reading::default());
     eprintln!("light 10° off: as given {as_given:.4}, registered {read:.4}");
     // Measured at 256²: 0.116 as given, 0.049 registered.
@@ -100,10 +100,14 @@ fn flat_tones_are_read_as_the_smooth_shading() {
     let before = error(&toned.painting);
     let read = tones::smooth(&mut toned).expect("6 levels per channel are flat tones");
     let after = error(&toned.painting);
-    eprintln!("levels {:?}: relative RMS against the clean painting {before:.4} -> {after:.4}", read.levels);
+    tones::refine(&mut toned, &read);
+    let refined = error(&toned.painting);
+    eprintln!("levels {:?}: relative RMS against the clean painting {before:.4} -> {after:.4} -> {refined:.4} (through the proxy)", read.levels);
     assert!(read.levels.iter().all(|&n| n <= 6), "{:?}", read.levels);
-    // Measured at 128²: 0.190 -> 0.099 (levels 6, 5, 4).
+    // Measured at 128²: 0.190 -> 0.099 between edges (levels 6, 5, 4) -> 0.018 through the
+    // proxy (a Lambertian painting is in its span).
     assert!(after < 0.6 * before, "{before} -> {after}");
+    assert!(refined < 0.3 * after, "{after} -> {refined}");
 
     // Two tones are a toon style: kept as painted.
     let mut toon = faults::paint(&view, &model, &Faults { levels: 2, ..Faults::clean() }).unwrap();
@@ -118,11 +122,53 @@ fn flat_tones_are_read_as_the_smooth_shading() {
 #[test]
 fn toned_paintings_generalize_better_read_smooth() {
     let f = Faults::posterized();
-    let as_given = held_out_median(&f, Reading { smooth_tones: false, register_light: false });
-    let read = held_out_median(&f, Reading { smooth_tones: true, register_light: false });
+    let as_given = held_out_median(&f, Reading { smooth_tones: false, register_light: false, repaint_strays: false });
+    let read = held_out_median(&f, Reading { smooth_tones: true, register_light: false, repaint_strays: false });
     eprintln!("6 levels: as given {as_given:.4}, read smooth {read:.4}");
-    // Measured at 256²: 0.181 as given, 0.165 read smooth.
-    assert!(read < 0.95 * as_given, "{read} against {as_given}");
+    // Measured at 256²: 0.181 as given, 0.086 read smooth (0.165 between tone edges alone,
+    // before the physical proxy).
+    assert!(read < 0.65 * as_given, "{read} against {as_given}");
+}
+
+#[test]
+fn stray_strokes_are_repainted_and_clean_paintings_are_not() {
+    let f = Faults::strays();
+    let as_given = held_out_median(&f, Reading { smooth_tones: false, register_light: false, repaint_strays: false });
+    let read = held_out_median(&f, Reading::default());
+    eprintln!("strays: as given {as_given:.4}, repainted {read:.4}");
+    // Measured at 256²: 0.106 as given, 0.044 repainted.
+    assert!(read < 0.06, "{read}");
+    assert!(read < 0.6 * as_given, "{read} against {as_given}");
+
+    // Consistent paintings, brushed or not, keep every pixel as painted.
+    let mut sampler = SceneSampler::new().unwrap();
+    let view = FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, 0.0).unwrap();
+    for f in [Faults::clean(), Faults::brush(), Faults::noisy()] {
+        for model in faults::suite() {
+            let mut views = vec![faults::paint(&view, &model, &f).unwrap()];
+            let pixels = views[0].painting.pixels.clone();
+            let found = strays::repaint(&mut views, &Settings::default()).unwrap();
+            assert!(found.is_none(), "{} ({f:?}): {found:?}", model.name());
+            assert_eq!(views[0].painting.pixels, pixels, "{}", model.name());
+        }
+    }
+}
+
+#[test]
+fn paintings_with_every_fault_generalize() {
+    let mut sampler = SceneSampler::new().unwrap();
+    let f = Faults::all();
+    let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, SIZE).unwrap()).collect();
+    let painted = [FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, f.light_off_deg).unwrap()];
+    let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
+    let rows = faults::measure(&painted, &held, &faults::suite(), &Settings::default(), &f, &plain, Reading::default()).unwrap();
+    let held_out = median(&rows.iter().map(|r| r.held_out).collect::<Vec<_>>());
+    let worst = rows.iter().map(|r| r.worst_view).fold(0.0, f64::max);
+    eprintln!("all faults: held-out median {held_out:.4}, worst view {worst:.3}");
+    // Measured at 256²: median 0.071, worst view 0.945 (GGX 0.2's highlight); at the
+    // session's start 0.160 and 1.28.
+    assert!(held_out < 0.09, "{held_out}");
+    assert!(worst < 1.0, "{worst}");
 }
 
 #[test]
@@ -134,4 +180,5 @@ fn reading_notes_name_the_painting() {
     let notes = pipeline::read(&mut views, &[&view.view.gbuffer], &Reading::default()).unwrap();
     eprintln!("{notes:#?}");
     assert!(notes.iter().any(|n| n.starts_with(&views[0].name) && n.contains("flat tones")), "{notes:?}");
+    assert!(notes.iter().any(|n| n.starts_with(&views[0].name) && n.contains("stray strokes")), "{notes:?}");
 }

@@ -72,6 +72,11 @@ pub(super) struct FitArgs {
     /// painted. By default its tones are read as the smooth shading between their edges.
     #[arg(long, requires = "scene")]
     keep_tones: bool,
+    /// With --scene: fit every painted pixel as painted. By default strokes the fit misses
+    /// far more than the rest of the painting (paint over the outline, a stray accent) are
+    /// repainted with the shading around them, and a note says how many pixels.
+    #[arg(long, requires = "scene")]
+    keep_strokes: bool,
     /// Output material directory (with report.png for paintings).
     #[arg(long, value_name = "MAT")]
     out: PathBuf,
@@ -302,7 +307,7 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
     let mut sampler = SceneSampler::new()?;
     let pairs: Vec<(PathBuf, PathBuf)> = args.scene.iter().cloned().zip(args.image.iter().cloned()).collect();
     let mut loaded = pipeline::load_views(&mut sampler, &pairs, erosion)?;
-    loaded.read(&pipeline::Reading { smooth_tones: !args.keep_tones, register_light: !args.keep_light }, opts.kind)?;
+    loaded.read(&pipeline::Reading { smooth_tones: !args.keep_tones, register_light: !args.keep_light, repaint_strays: !args.keep_strokes }, opts.kind)?;
     let pipeline::Loaded { views, notes, .. } = loaded;
     for note in &notes {
         println!("note: {note}");

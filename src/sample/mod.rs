@@ -39,10 +39,12 @@
 //! ```
 
 pub mod page;
+pub mod proxy;
 pub mod photo;
 pub mod register;
 pub mod report;
 pub mod scene;
+pub mod strays;
 pub mod tones;
 
 use glam::DVec3;

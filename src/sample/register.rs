@@ -15,10 +15,9 @@
 //!   light: on one view a diffuse painting is explained almost as well by any light on the
 //!   great circle through the light and the eye, since $p(l)\,q(h)\,r(v)$ bends to follow
 //!   (a Lambertian sphere painted 10° off was fitted best 18° off, the wrong way). A small
-//!   physical basis does not bend: luminance as ambient + $\max(n\cdot l, 0)$ +
-//!   $\min(n\cdot l, 0)$ (a Gooch painting's cool side) + Blinn-Phong lobes
-//!   $(n\cdot h)^e$ of a few exponents, fitted by linear least squares with relative
-//!   weights. Its isophotes are circles about $l$ and its highlight sits at $h$, so its best
+//!   physical basis does not bend: luminance as the physical proxy ([`super::proxy`]:
+//!   ambient, diffuse, a Gooch painting's cool side and Blinn-Phong lobes), fitted by linear
+//!   least squares with relative weights. Its isophotes are circles about $l$ and its highlight sits at $h$, so its best
 //!   light is where the painting's shading and highlight say the light was.
 //! - **Acceptance: the factors.** The proxy is not the material and is biased by a degree or
 //!   two on materials it cannot express (retro-reflection, masking), so its light is kept
@@ -32,7 +31,7 @@
 
 use glam::{DQuat, DVec3};
 
-use super::{Geometry, PaintedView, Samples};
+use super::{proxy, Geometry, PaintedView, Samples};
 use crate::error::Result;
 use crate::factor::{Mapping, Settings};
 use crate::render::GBuffer;
@@ -157,81 +156,20 @@ impl Search {
     }
 }
 
-/// The search's physical basis (module doc) at one sample: ambient, $\max(n\cdot l, 0)$,
-/// $\min(n\cdot l, 0)$, and Blinn-Phong lobes $(n\cdot h)^e$, $e$ = 4, 16, 64, 256 (by
-/// squaring), lit side only.
-fn basis(l: DVec3, v: DVec3) -> [f64; BASIS] {
-    let nl = l.z.max(0.0);
-    let nh = if nl > 0.0 { (l + v).normalize_or(DVec3::Z).z.max(0.0) } else { 0.0 };
-    let e4 = nh * nh * nh * nh;
-    let e16 = e4 * e4 * e4 * e4;
-    let e64 = e16 * e16 * e16 * e16;
-    [1.0, nl, l.z.min(0.0), e4, e16, e64, e64 * e64 * e64 * e64]
-}
-const BASIS: usize = 7;
-
-/// Relative RMS of a least-squares fit of luminance by [`basis`] to (l, v, luminance)
-/// samples. Each is weighted by 1 / (its value + `floor`), so dark and bright regions count
-/// alike, as in the relative RMS a fit reports.
-// Index loops: a small dense matrix reads clearest by its indices.
-#[allow(clippy::needless_range_loop)]
+/// Relative RMS of a least-squares fit of luminance by the physical proxy
+/// ([`super::proxy`]) to (l, v, luminance) samples. Each is weighted by 1 / (its value +
+/// `floor`), so dark and bright regions count alike, as in the relative RMS a fit reports.
 fn proxy(samples: impl Iterator<Item = (DVec3, DVec3, f64)> + Clone, floor: f64) -> f64 {
-    let mut a = [[0.0f64; BASIS]; BASIS];
-    let mut r = [0.0f64; BASIS];
-    for (l, v, y) in samples.clone() {
-        let w = 1.0 / (y + floor);
-        let b = basis(l, v).map(|x| x * w);
-        for i in 0..BASIS {
-            for j in i..BASIS {
-                a[i][j] += b[i] * b[j];
-            }
-            r[i] += b[i] * y * w;
-        }
-    }
-    for i in 0..BASIS {
-        for j in 0..i {
-            a[i][j] = a[j][i];
-        }
-    }
-    let Some(x) = solve_small(a, r) else { return f64::INFINITY };
+    let Some(x) = proxy::fit(samples.clone().map(|(l, v, y)| (proxy::basis(l, v), y, 1.0 / (y + floor)))) else {
+        return f64::INFINITY;
+    };
     let (mut se, mut sy) = (0.0, 0.0);
     for (l, v, y) in samples {
         let w = 1.0 / (y + floor);
-        let f: f64 = basis(l, v).iter().zip(&x).map(|(b, x)| b * x).sum();
-        se += ((f - y) * w).powi(2);
+        se += ((proxy::eval(&proxy::basis(l, v), &x) - y) * w).powi(2);
         sy += (y * w).powi(2);
     }
     (se / sy.max(1e-300)).sqrt()
-}
-
-/// Solves a small dense system by Gaussian elimination with partial pivoting (and a tiny
-/// ridge, so an unused basis function does not make it singular).
-#[allow(clippy::needless_range_loop)]
-fn solve_small<const N: usize>(mut a: [[f64; N]; N], mut r: [f64; N]) -> Option<[f64; N]> {
-    let scale = (0..N).map(|i| a[i][i]).fold(0.0, f64::max).max(1e-300);
-    for (i, row) in a.iter_mut().enumerate() {
-        row[i] += 1e-9 * scale;
-    }
-    for c in 0..N {
-        let p = (c..N).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
-        if a[p][c].abs() < 1e-300 {
-            return None;
-        }
-        a.swap(c, p);
-        r.swap(c, p);
-        for i in c + 1..N {
-            let f = a[i][c] / a[c][c];
-            for j in c..N {
-                a[i][j] -= f * a[c][j];
-            }
-            r[i] -= f * r[c];
-        }
-    }
-    let mut x = [0.0; N];
-    for i in (0..N).rev() {
-        x[i] = (r[i] - (i + 1..N).map(|j| a[i][j] * x[j]).sum::<f64>()) / a[i][i];
-    }
-    Some(x)
 }
 
 /// Registers each view's light (one pass over the views, each searched with the others as

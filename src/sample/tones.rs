@@ -21,7 +21,7 @@
 //! [`MAX_LEVELS`] distinct 8-bit codes and some channel at least [`MIN_LEVELS`]: two tones are a
 //! toon style to keep, hundreds a painted gradient.
 
-use super::PaintedView;
+use super::{proxy, PaintedView};
 use crate::images::{linear_to_srgb, srgb_to_linear};
 
 /// Most distinct codes per channel of a toned painting.
@@ -36,13 +36,16 @@ const MIN_SAMPLES: usize = 500;
 pub struct Toned {
     /// Distinct codes per channel.
     pub levels: [usize; 3],
+    /// Per sample pixel: its index and, per channel, the linear interval its true value
+    /// lies in (between the midpoints to the neighbouring levels).
+    pub bounds: Vec<(usize, [[f64; 2]; 3])>,
 }
 
 impl Toned {
     /// The note a user reads.
     pub fn describe(&self, painting: &str) -> String {
         format!(
-            "{painting}: painted in flat tones ({}, {} and {} levels in R, G, B): read as the smooth shading between tone edges (--keep-tones fits the tones as painted)",
+            "{painting}: painted in flat tones ({}, {} and {} levels in R, G, B): read as the smooth shading they suggest (--keep-tones fits the tones as painted)",
             self.levels[0], self.levels[1], self.levels[2]
         )
     }
@@ -62,6 +65,8 @@ pub fn smooth(view: &mut PaintedView) -> Option<Toned> {
     }
     let codes: Vec<[u8; 3]> = view.painting.pixels.iter().map(|p| p.map(|x| (linear_to_srgb(x) * 255.0).round().clamp(0.0, 255.0) as u8)).collect();
     let mut levels = [0usize; 3];
+    let mut bounds: Vec<(usize, [[f64; 2]; 3])> = samples.iter().map(|&k| (k, [[0.0, f64::INFINITY]; 3])).collect();
+    let slot: std::collections::HashMap<usize, usize> = samples.iter().enumerate().map(|(i, &k)| (k, i)).collect();
     let mut tables: Vec<Vec<u8>> = Vec::new();
     for c in 0..3 {
         let mut seen = [false; 256];
@@ -106,10 +111,80 @@ pub fn smooth(view: &mut PaintedView) -> Option<Toned> {
                     (false, false) => value(i),
                 };
                 view.painting.pixels[k][c] = srgb_to_linear(x.clamp(0.0, 1.0) as f32);
+                bounds[slot[&k]].1[c] = [lo, hi].map(|b| srgb_to_linear(b.clamp(0.0, 1.0) as f32) as f64);
             }
         }
     }
-    Some(Toned { levels })
+    Some(Toned { levels, bounds })
+}
+
+/// A toned sample for [`refine`]: pixel, proxy basis, light delivered, intervals.
+type Site = (usize, [f64; proxy::BASIS], [f64; 3], [[f64; 2]; 3]);
+
+/// Reads a toned view through the physical proxy ([`super::proxy`]), once its light is
+/// known (registered): the proxy shading closest to the painting's intervals
+/// (`toned.bounds`), starting from [`smooth`]'s interpolation, and each pixel's value clamped
+/// into its interval. Where the proxy explains the painting the tones become its smooth
+/// shading (the interpolation between edges is only a guess across a region a third of the
+/// sphere wide); where it does not, the interpolation stays.
+///
+/// A channel with three or four levels does not pin seven functions down, so the shape is
+/// read from the luminance first (whose intervals are narrow: it mixes every channel's
+/// edges, and one material's channels share their shading), and each channel then fits only
+/// its own ambient, diffuse, cool-side and highlight weights on that shape.
+pub fn refine(view: &mut PaintedView, toned: &Toned) {
+    const Y: [f64; 3] = [0.2126, 0.7152, 0.0722];
+    let geometry: Vec<Site> = toned
+        .bounds
+        .iter()
+        .filter(|&&(k, _)| view.geometry.usable[k])
+        .filter_map(|&(k, b)| {
+            let px = view.geometry.pixels[k].as_ref()?;
+            Some((k, proxy::basis(px.query.l, px.query.v), px.light, b))
+        })
+        .collect();
+    let value = |k: usize, c: usize| view.painting.pixels[k][c] as f64;
+    // The shape, from the luminance: S(l, v) times the luminance the light delivers.
+    let luminance: Vec<([f64; proxy::BASIS], [f64; 2])> = geometry
+        .iter()
+        .map(|(_, b, light, bounds)| {
+            let e: f64 = (0..3).map(|c| Y[c] * light[c]).sum();
+            let lo: f64 = (0..3).map(|c| Y[c] * bounds[c][0]).sum();
+            let hi: f64 = (0..3).map(|c| Y[c] * bounds[c][1]).sum();
+            (b.map(|x| x * e), [lo, hi])
+        })
+        .collect();
+    let start: Vec<f64> = geometry.iter().map(|&(k, ..)| (0..3).map(|c| Y[c] * value(k, c)).sum()).collect();
+    let Some((shape, _)) = proxy::fit_within(&luminance, &start) else { return };
+    let mut out: Vec<[f32; 3]> = geometry.iter().map(|&(k, ..)| view.painting.pixels[k]).collect();
+    for c in 0..3 {
+        if toned.levels[c] < 2 {
+            continue;
+        }
+        // Per channel: ambient, max(n.l, 0), min(n.l, 0), and the luminance's highlight.
+        let points: Vec<([f64; 4], [f64; 2])> = geometry
+            .iter()
+            .map(|(_, b, light, bounds)| {
+                let lobe: f64 = (3..proxy::BASIS).map(|j| shape[j] * b[j]).sum();
+                ([b[0], b[1], b[2], lobe].map(|x| x * light[c]), bounds[c])
+            })
+            .collect();
+        let start: Vec<f64> = geometry.iter().map(|&(k, ..)| value(k, c)).collect();
+        let Some((x, t)) = proxy::fit_within(&points, &start) else { continue };
+        // Where the proxy still leaves a pixel's interval (by more than a quarter of it) it
+        // does not explain the painting there (a highlight sharper than its lobes): the
+        // interpolation stays.
+        for (i, (&(b, [lo, hi]), y)) in points.iter().zip(&t).enumerate() {
+            let f = proxy::eval(&b, &x);
+            let slack = 0.25 * (hi - lo);
+            if f >= lo - slack && f <= hi + slack {
+                out[i][c] = *y as f32;
+            }
+        }
+    }
+    for (&(k, ..), px) in geometry.iter().zip(out) {
+        view.painting.pixels[k] = px;
+    }
 }
 
 /// Euclidean distance from each pixel to the nearest `set` pixel (infinite when there is

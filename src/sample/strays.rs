@@ -1,0 +1,174 @@
+//! Stray strokes (issue 11): paint that does not belong to the shading, repainted.
+//!
+//! People paint over the outline, drop a white or black accent, try a colour and leave it.
+//! Fitted as samples, such strokes go into the tables like shading does: eight strokes across
+//! the outline of a sphere painting take the held-out error from 0.026 to 0.106, and a white
+//! stroke over a sharp highlight's neighbourhood makes the highlight 1.3× too wide and bright
+//! (BENCHMARKS.md, faults). A robust loss at solve time (`Prepared::solve_robust`) halves it but
+//! costs clean paintings (its mapping choice on trimmed errors), so strays are instead found
+//! once, while the painting is read, and repainted with the physical proxy fitted to the
+//! rest ([`fill`]: left out, they would leave holes where the tables extrapolate).
+//!
+//! A sample is a stray when the factored least-squares fit of the painting (thesis eq. 3.9,
+//! offset mapping) misses it by far more than it misses the painting as a whole: its largest
+//! per-channel log ratio (with a floor $\epsilon$ of [`FLOOR`] of the brightest value) $|\ln((y + \epsilon) / (f + \epsilon))|$ exceeds [`SPREAD`] robust
+//! standard deviations of all samples' (from their median absolute value) and at least
+//! [`MIN_RATIO`]. Strokes are connected and their rims blend into the shading, so the set
+//! grows into neighbours missed by half as much, up to three pixels. Strays pull the fit towards themselves, so
+//! the search runs twice, the second time without the first's strays. A painting whose
+//! misses are more than [`MAX_FRACTION`] of its samples does not have strays: it disagrees
+//! with itself (several materials, another light), and nothing is repainted (the fit's
+//! diagnostics say what to do).
+
+use super::{proxy, PaintedView, Samples};
+use crate::error::Result;
+use crate::factor::{Mapping, Settings};
+
+/// Robust standard deviations a stray's miss exceeds.
+pub const SPREAD: f64 = 5.0;
+/// The smallest miss (log ratio, about ±40%) that makes a stray, whatever the spread.
+pub const MIN_RATIO: f64 = 0.35;
+/// Most of the samples that may be strays.
+pub const MAX_FRACTION: f64 = 0.1;
+/// The floor $\epsilon$ of the log ratio, as a fraction of the painting's brightest value: a
+/// shadow's small misses (a terminator a pixel off) are not strokes.
+pub const FLOOR: f64 = 0.1;
+/// How far (pixels) a stray grows into its neighbours: a brush's soft rim, not a region.
+const GROWTH: usize = 3;
+/// A neighbour joins a stray when the fit misses it by this fraction of the threshold.
+const RIM: f64 = 0.5;
+/// Searches: each refits without the strays found so far.
+const PASSES: usize = 2;
+
+/// What was repainted.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Strays {
+    /// The pixels repainted, per view.
+    pub per_view: Vec<Vec<usize>>,
+}
+
+impl Strays {
+    /// The notes a user reads, one per view with strays.
+    pub fn describe(&self, views: &[PaintedView]) -> Vec<String> {
+        views
+            .iter()
+            .zip(&self.per_view)
+            .filter(|(_, p)| !p.is_empty())
+            .map(|(v, p)| {
+                let n = p.len();
+                format!(
+                    "{}: {n} painted pixels read as stray strokes (the fit misses them far more than the rest) and repainted with the shading around them (--keep-strokes fits them as painted)",
+                    v.name
+                )
+            })
+            .collect()
+    }
+}
+
+/// Finds the strays of `views` (module doc) and repaints them; `None`, with nothing changed,
+/// when there are none or too many to be strays.
+pub fn repaint(views: &mut [PaintedView], settings: &Settings) -> Result<Option<Strays>> {
+    let mut found: Vec<Vec<usize>> = vec![Vec::new(); views.len()];
+    for _ in 0..PASSES {
+        let samples = Samples::gather(views)?;
+        let n = samples.len();
+        let prepared = crate::factor::prepare(&samples.pattern, settings)?;
+        let fit = prepared.solve(&samples.values, Mapping::Offset(None))?;
+        let predicted = prepared.predict(&fit.tables, &fit.map);
+        let peak = samples.values.iter().flatten().copied().fold(0.0, f64::max);
+        let eps = FLOOR * peak.max(1e-12);
+        let miss: Vec<f64> = samples
+            .values
+            .iter()
+            .zip(&predicted)
+            .map(|(y, f)| (0..3).map(|c| ((y[c].max(0.0) + eps) / (f[c].max(0.0) + eps)).ln().abs()).fold(0.0, f64::max))
+            .collect();
+        let mut sorted = miss.clone();
+        sorted.sort_by(f64::total_cmp);
+        let sigma = sorted[n / 2] / 0.6745;
+        let threshold = (SPREAD * sigma).max(MIN_RATIO);
+        // Per view: pixel → miss, then the strays and the neighbours they grow into.
+        let mut strays: Vec<Vec<usize>> = vec![Vec::new(); views.len()];
+        let mut offset = 0;
+        for (v, view) in views.iter().enumerate() {
+            let count = samples.per_view[v];
+            let (w, h) = (view.geometry.width, view.geometry.height);
+            let mut at = vec![f64::NAN; w * h];
+            for i in offset..offset + count {
+                at[samples.origin[i].1] = miss[i];
+            }
+            offset += count;
+            let mut stray: Vec<bool> = at.iter().map(|&m| m > threshold).collect();
+            let mut frontier: Vec<usize> = (0..w * h).filter(|&k| stray[k]).collect();
+            for _ in 0..GROWTH {
+              let mut next = Vec::new();
+              for k in frontier.drain(..) {
+                let (i, j) = ((k % w) as i64, (k / w) as i64);
+                for (di, dj) in [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (1, 1), (-1, 1), (1, -1)] {
+                    let (x, y) = (i + di, j + dj);
+                    if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
+                        continue;
+                    }
+                    let m = (y as usize) * w + x as usize;
+                    if !stray[m] && at[m] > RIM * threshold {
+                        stray[m] = true;
+                        next.push(m);
+                    }
+                }
+              }
+              frontier = next;
+            }
+            strays[v] = (0..w * h).filter(|&k| stray[k]).collect();
+        }
+        let total: usize = strays.iter().map(Vec::len).sum();
+        if total == 0 {
+            break;
+        }
+        let before: usize = found.iter().map(Vec::len).sum();
+        if (total + before) as f64 > MAX_FRACTION * (n + before) as f64 {
+            if before == 0 {
+                return Ok(None);
+            }
+            break;
+        }
+        for ((view, s), f) in views.iter_mut().zip(&strays).zip(found.iter_mut()) {
+            for &k in s {
+                view.geometry.usable[k] = false;
+            }
+            f.extend_from_slice(s);
+        }
+    }
+    if found.iter().all(Vec::is_empty) {
+        return Ok(None);
+    }
+    fill(views, &found)?;
+    Ok(Some(Strays { per_view: found }))
+}
+
+/// Paints the strays (`found[v]`: pixels of view v, unusable until now) with the physical
+/// proxy ([`super::proxy`]) fitted per channel to the other samples, and makes them samples
+/// again. Left out instead, they would leave holes at the outline and in the shadow, where
+/// the tables then extrapolate freely: a Lambertian sphere with its strays left out no longer
+/// darkens when the light goes behind it (light sweep 0.47), with them repainted it does.
+fn fill(views: &mut [PaintedView], found: &[Vec<usize>]) -> Result<()> {
+    let samples = Samples::gather(views)?;
+    let peak = samples.values.iter().flatten().copied().fold(0.0, f64::max).max(1e-12);
+    for c in 0..3 {
+        let points = samples.pattern.queries.iter().zip(&samples.values).map(|(q, y)| (proxy::basis(q.l, q.v), y[c], 1.0 / (y[c].max(0.0) + 0.05 * peak)));
+        let Some(x) = proxy::fit(points) else { continue };
+        for (view, pixels) in views.iter_mut().zip(found) {
+            for &k in pixels {
+                if let Some(px) = view.geometry.pixels[k].as_ref() {
+                    let s = proxy::eval(&proxy::basis(px.query.l, px.query.v), &x).max(0.0);
+                    view.painting.pixels[k][c] = (s * px.light[c]) as f32;
+                }
+            }
+        }
+    }
+    for (view, pixels) in views.iter_mut().zip(found) {
+        for &k in pixels {
+            view.geometry.usable[k] = true;
+        }
+    }
+    Ok(())
+}
