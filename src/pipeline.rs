@@ -177,14 +177,14 @@ pub fn read(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading)
                 let repainted: std::collections::HashSet<usize> = found.per_view[*i].iter().copied().collect();
                 t.bounds.retain(|(k, _)| !repainted.contains(k));
             }
-            // Without the strays the painter's light may show more clearly: again, from
-            // the scene's light.
-            if reading.register_light {
-                for (view, g) in views.iter_mut().zip(gbuffers) {
-                    view.geometry = register::turned(g, &view.geometry, glam::DQuat::IDENTITY);
+            // Without the strays the painter's light may show more clearly: searched again
+            // (about the scene's light), a view keeps its first turn unless the new one
+            // explains it better.
+            for (turn, again) in turns.iter_mut().zip(register(views)?) {
+                if again.moved() {
+                    *turn = again;
                 }
             }
-            turns = register(views)?;
         }
     }
     for (view, turn) in views.iter().zip(&turns) {

@@ -42,10 +42,15 @@ pub const RADIUS_DEG: f64 = 20.0;
 /// fraction below its RMS with the scene's light.
 pub const MIN_GAIN: f64 = 0.05;
 /// A turn is kept only when the painting, lit from there, looks like one material: the
-/// factored fit's relative RMS at most this. A painting of several materials (bands of
+/// factored fit's relative RMS at most this (or it gains [`CLEAR_GAIN`]). A painting of several materials (bands of
 /// albedo) is explained better by some light or other, never well, and its light is the
 /// scene's to keep (`fit` warns that it is not one material instead).
 pub const MAX_RESIDUAL: f64 = 0.15;
+/// A turn that leaves the painting poorly explained is still kept when it halves the
+/// factored fit's error: stray strokes and flat tones keep a painting from being explained
+/// well by any light, and a painting of several materials never gains this much (a banded
+/// painting of two albedos gains a few percent at best).
+pub const CLEAR_GAIN: f64 = 0.5;
 /// Turns smaller than this (degrees) are not worth a note or a different scene.
 const MIN_TURN_DEG: f64 = 1.0;
 
@@ -99,11 +104,26 @@ pub fn turned(g: &GBuffer, geometry: &Geometry, rotation: DQuat) -> Geometry {
 }
 
 /// How well the factored product of `settings` explains `samples`: relative RMS of its
-/// least-squares fit with the offset mapping.
+/// least-squares fit with the offset mapping, over all but the [`TRIM`] worst-fitted
+/// samples (stray strokes hide what a light explains).
 fn explained(samples: &Samples, settings: &Settings) -> Result<f64> {
     let prepared = crate::factor::prepare(&samples.pattern, settings)?;
-    Ok(prepared.solve(&samples.values, Mapping::Offset(None))?.errors.rms_relative)
+    let fit = prepared.solve(&samples.values, Mapping::Offset(None))?;
+    let predicted = prepared.predict(&fit.tables, &fit.map);
+    let mut errors: Vec<(f64, f64)> = samples
+        .values
+        .iter()
+        .zip(&predicted)
+        .map(|(y, f)| ((0..3).map(|c| (f[c] - y[c]).powi(2)).sum(), (0..3).map(|c| y[c] * y[c]).sum()))
+        .collect();
+    errors.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let kept = &errors[..errors.len() - (TRIM * errors.len() as f64) as usize];
+    let (se, sy) = kept.iter().fold((0.0, 0.0), |(a, b), (e, y)| (a + e, b + y));
+    Ok((se / sy.max(1e-300)).sqrt())
 }
+
+/// The fraction of worst-fitted samples [`explained`] leaves out.
+const TRIM: f64 = 0.05;
 
 /// Most samples the proxy search fits (every k-th; seven unknowns need few).
 const SEARCH_SAMPLES: usize = 8000;
@@ -156,20 +176,34 @@ impl Search {
     }
 }
 
-/// Relative RMS of a least-squares fit of luminance by the physical proxy
-/// ([`super::proxy`]) to (l, v, luminance) samples. Each is weighted by 1 / (its value +
-/// `floor`), so dark and bright regions count alike, as in the relative RMS a fit reports.
+/// Relative RMS of a robust fit of luminance by the physical proxy ([`super::proxy`]) to
+/// (l, v, luminance) samples. Each is weighted by 1 / (its value + `floor`), so dark and
+/// bright regions count alike, as in the relative RMS a fit reports; then twice reweighted
+/// by Huber's weights (residuals beyond twice their robust spread count linearly), and
+/// scored with those weights, so stray strokes do not choose the light.
 fn proxy(samples: impl Iterator<Item = (DVec3, DVec3, f64)> + Clone, floor: f64) -> f64 {
-    let Some(x) = proxy::fit(samples.clone().map(|(l, v, y)| (proxy::basis(l, v), y, 1.0 / (y + floor)))) else {
-        return f64::INFINITY;
-    };
-    let (mut se, mut sy) = (0.0, 0.0);
-    for (l, v, y) in samples {
-        let w = 1.0 / (y + floor);
-        se += ((proxy::eval(&proxy::basis(l, v), &x) - y) * w).powi(2);
-        sy += (y * w).powi(2);
+    let points: Vec<([f64; proxy::BASIS], f64, f64)> = samples.map(|(l, v, y)| (proxy::basis(l, v), y, 1.0 / (y + floor))).collect();
+    let mut huber = vec![1.0f64; points.len()];
+    let mut score = f64::INFINITY;
+    for _ in 0..3 {
+        let Some(x) = proxy::fit(points.iter().zip(&huber).map(|(&(b, y, w), h)| (b, y, w * h.sqrt()))) else {
+            return f64::INFINITY;
+        };
+        let residual: Vec<f64> = points.iter().map(|&(b, y, w)| ((proxy::eval(&b, &x) - y) * w).abs()).collect();
+        let (mut se, mut sy) = (0.0, 0.0);
+        for ((&(_, y, w), r), h) in points.iter().zip(&residual).zip(&huber) {
+            se += h * r * r;
+            sy += h * (y * w).powi(2);
+        }
+        score = (se / sy.max(1e-300)).sqrt();
+        let mut sorted = residual.clone();
+        sorted.sort_by(f64::total_cmp);
+        let spread = 2.0 * 1.4826 * sorted[sorted.len() / 2];
+        for (h, r) in huber.iter_mut().zip(&residual) {
+            *h = if *r > spread && spread > 0.0 { spread / r } else { 1.0 };
+        }
     }
-    (se / sy.max(1e-300)).sqrt()
+    score
 }
 
 /// Registers each view's light (one pass over the views, each searched with the others as
@@ -229,7 +263,7 @@ pub fn register(views: &mut [PaintedView], gbuffers: &[&GBuffer], settings: &Set
             let rotation = rotation(best.0, best.1);
             views[i].geometry = turned(g, &original, rotation);
             let after = explained(&Samples::gather(views)?, settings)?;
-            if after <= (1.0 - MIN_GAIN) * before && after <= MAX_RESIDUAL {
+            if after <= (1.0 - MIN_GAIN) * before && (after <= MAX_RESIDUAL || after <= CLEAR_GAIN * before) {
                 turn = Turn { rotation, degrees, before, after };
             } else {
                 views[i].geometry = original;

@@ -118,6 +118,9 @@ pub fn smooth(view: &mut PaintedView) -> Option<Toned> {
     Some(Toned { levels, bounds })
 }
 
+/// Levels of a channel that [`refine`] reads as the luminance's shading, scaled and offset.
+const FEW_LEVELS: usize = 3;
+
 /// A toned sample for [`refine`]: pixel, proxy basis, light delivered, intervals.
 type Site = (usize, [f64; proxy::BASIS], [f64; 3], [[f64; 2]; 3]);
 
@@ -161,12 +164,16 @@ pub fn refine(view: &mut PaintedView, toned: &Toned) {
         if toned.levels[c] < 2 {
             continue;
         }
-        // Per channel: ambient, max(n.l, 0), min(n.l, 0), and the luminance's highlight.
+        // Per channel: ambient, max(n.l, 0), min(n.l, 0), and the luminance's highlight;
+        // a channel of two or three tones has one or two edges, too few for four weights,
+        // and takes the luminance's whole shading, scaled and offset.
+        let few = toned.levels[c] <= FEW_LEVELS;
         let points: Vec<([f64; 4], [f64; 2])> = geometry
             .iter()
             .map(|(_, b, light, bounds)| {
                 let lobe: f64 = (3..proxy::BASIS).map(|j| shape[j] * b[j]).sum();
-                ([b[0], b[1], b[2], lobe].map(|x| x * light[c]), bounds[c])
+                let basis = if few { [b[0], proxy::eval(b, &shape), 0.0, 0.0] } else { [b[0], b[1], b[2], lobe] };
+                (basis.map(|x| x * light[c]), bounds[c])
             })
             .collect();
         let start: Vec<f64> = geometry.iter().map(|&(k, ..)| value(k, c)).collect();
