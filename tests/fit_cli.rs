@@ -294,3 +294,59 @@ fn spatially_varying_kinds_fit_a_banded_painting_better_than_uniform() {
     assert!(rel(&four) < 0.5 * rel(&uniform), "four-factor {} vs uniform {}", rel(&four), rel(&uniform));
     assert!(rel(&map) < 0.5 * rel(&uniform), "material map {} vs uniform {}", rel(&map), rel(&uniform));
 }
+
+/// Stray strokes (a black bar across the lit side, a white one down the shadow, both over
+/// the outline) are repainted by default, said
+/// on stdout and in material.json, and the material is closer to the truth on held-out
+/// lights and views than with `--keep-strokes`.
+#[test]
+fn stray_strokes_are_repainted_unless_kept() {
+    use brdfpaint::study::fidelity::{held_out_presets, StudyView};
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "scene.gltf", &Preset::default(), 1.2);
+    let painting = dir.path().join("strays.png");
+    let model = blinn_phong();
+    let clean = paint(&scene, &model, 128, &painting);
+    let mut pixels = clean.pixels.clone();
+    for (k, px) in pixels.iter_mut().enumerate() {
+        let (i, j) = (k % 128, k / 128);
+        if (84..90).contains(&j) && (5..70).contains(&i) {
+            *px = [0.0; 3];
+        }
+        if (92..97).contains(&i) && (50..125).contains(&j) {
+            *px = [0.95; 3];
+        }
+    }
+    let clean_path = dir.path().join("clean.png");
+    Rgb { width: 128, height: 128, pixels: clean.pixels.clone() }.write_png(&clean_path).unwrap();
+    Rgb { width: 128, height: 128, pixels }.write_png(&painting).unwrap();
+    let cache = dir.path().join("cache");
+    let mut sampler = SceneSampler::new().unwrap();
+    let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, 64).unwrap()).collect();
+    let mut errors = Vec::new();
+    let fitted = |image: &Path, out: &Path, more: &[&str]| {
+        let mut args = vec!["fit", "--scene", s(&scene), "--image", s(image), "--out", s(out)];
+        args.extend_from_slice(more);
+        brdfpaint(&cache, &args)
+    };
+    let out = dir.path().join("clean");
+    assert_eq!(fitted(&clean_path, &out, &[]).code, 0);
+    let truth = brdfpaint::study::held_out_error(&Material::load(&out).unwrap(), &model, &held, None).unwrap();
+    for keep in [false, true] {
+        let out = dir.path().join(if keep { "kept" } else { "read" });
+        let mut args = vec!["fit", "--scene", s(&scene), "--image", s(&painting), "--out", s(&out)];
+        if keep {
+            args.push("--keep-strokes");
+        }
+        let r = brdfpaint(&cache, &args);
+        assert_eq!(r.code, 0, "{}", r.stderr);
+        let m = Material::load(&out).unwrap();
+        let said = m.provenance.notes.iter().any(|n| n.contains("stray strokes"));
+        assert_eq!(r.stdout.contains("stray strokes"), !keep, "{}", r.stdout);
+        assert_eq!(said, !keep, "{:?}", m.provenance.notes);
+        errors.push(brdfpaint::study::held_out_error(&m, &model, &held, None).unwrap());
+    }
+    eprintln!("held-out relative RMS: clean {truth:.4}, repainted {:.4}, kept {:.4}", errors[0], errors[1]);
+    // Measured: clean 0.0019, repainted 0.0065, kept 0.38 (rings over the whole sphere).
+    assert!(errors[0] < 0.02 && errors[0] < 0.1 * errors[1], "{errors:?}");
+}

@@ -312,7 +312,9 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
     for note in &notes {
         println!("note: {note}");
     }
-    let fitted = pipeline::fit(&views, opts, Cache::user().as_ref())?;
+    let mut fitted = pipeline::fit(&views, opts, Cache::user().as_ref())?;
+    // How the paintings were read goes into material.json too, before the fit's own notes.
+    fitted.material.provenance.notes.splice(0..0, notes.iter().cloned());
     if let Some((report, _)) = &fitted.map {
         let what = match opts.map.method {
             map::Method::Greedy => "terms on positive residuals",
@@ -322,7 +324,7 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
             println!("{} {what}: RMS {:.5}  relative {:.4}  max {:.4}", k + 1, e.rms, e.rms_relative, e.max);
         }
     }
-    for note in &fitted.material.provenance.notes {
+    for note in &fitted.material.provenance.notes[notes.len()..] {
         println!("{note}");
     }
     let per_view = fitted.view_errors(&views);

@@ -54,6 +54,28 @@ pub fn fit<const N: usize>(points: impl Iterator<Item = ([f64; N], f64, f64)>) -
     solve_small(a, r)
 }
 
+/// [`fit`] with the lobes' weights kept non-negative (a lobe subtracted from another makes a
+/// highlight with a dark core): the most negative lobe is dropped and the fit repeated.
+pub fn fit_plausible(points: &[([f64; BASIS], f64, f64)]) -> Option<[f64; BASIS]> {
+    let mut dropped = [false; BASIS];
+    loop {
+        let x = fit(points.iter().map(|&(b, y, w)| {
+            let mut b = b;
+            for (v, &d) in b.iter_mut().zip(&dropped) {
+                if d {
+                    *v = 0.0;
+                }
+            }
+            (b, y, w)
+        }))?;
+        let worst = (3..BASIS).filter(|&j| !dropped[j] && x[j] < 0.0).min_by(|&i, &j| x[i].total_cmp(&x[j]));
+        match worst {
+            Some(j) => dropped[j] = true,
+            None => return Some(x),
+        }
+    }
+}
+
 /// The proxy's value: $b \cdot x$.
 pub fn eval<const N: usize>(b: &[f64; N], x: &[f64; N]) -> f64 {
     b.iter().zip(x).map(|(b, x)| b * x).sum()
