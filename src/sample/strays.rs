@@ -11,11 +11,12 @@
 //!
 //! A sample is a stray when the factored least-squares fit of the painting (thesis eq. 3.9,
 //! offset mapping) misses it by far more than it misses the painting as a whole: its largest
-//! per-channel log ratio (with a floor $\epsilon$ of [`FLOOR`] of the brightest value) $|\ln((y + \epsilon) / (f + \epsilon))|$ exceeds [`SPREAD`] robust
-//! standard deviations of all samples' (from their median absolute value) and at least
-//! [`MIN_RATIO`]. Strokes are connected and their rims blend into the shading, so the set
-//! grows into neighbours missed by half as much, up to three pixels. Strays pull the fit towards themselves, so
-//! the search runs twice, the second time without the first's strays. A painting whose
+//! per-channel log ratio $|\ln((y + \epsilon) / (f + \epsilon))|$ (the floor $\epsilon$ is
+//! [`FLOOR`] of the brightest value) exceeds [`SPREAD`] robust standard deviations of all
+//! samples' (from their median absolute value) and at least [`MIN_RATIO`]. Strokes are
+//! connected and their rims blend into the shading, so the set grows into neighbours missed
+//! by half as much, up to three pixels. Strays pull the fit towards themselves, so the search
+//! runs twice, the second time without the first's strays. A painting whose
 //! misses are more than [`MAX_FRACTION`] of its samples does not have strays: it disagrees
 //! with itself (several materials, another light), and nothing is repainted (the fit's
 //! diagnostics say what to do).
@@ -72,6 +73,9 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings) -> Result<Option<
     for _ in 0..PASSES {
         let samples = Samples::gather(views)?;
         let n = samples.len();
+        if n == 0 {
+            break;
+        }
         let prepared = crate::factor::prepare(&samples.pattern, settings)?;
         let fit = prepared.solve(&samples.values, Mapping::Offset(None))?;
         let predicted = prepared.predict(&fit.tables, &fit.map);
@@ -99,25 +103,7 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings) -> Result<Option<
             }
             offset += count;
             let mut stray: Vec<bool> = at.iter().map(|&m| m > threshold).collect();
-            let mut frontier: Vec<usize> = (0..w * h).filter(|&k| stray[k]).collect();
-            for _ in 0..GROWTH {
-              let mut next = Vec::new();
-              for k in frontier.drain(..) {
-                let (i, j) = ((k % w) as i64, (k / w) as i64);
-                for (di, dj) in [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (1, 1), (-1, 1), (1, -1)] {
-                    let (x, y) = (i + di, j + dj);
-                    if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
-                        continue;
-                    }
-                    let m = (y as usize) * w + x as usize;
-                    if !stray[m] && at[m] > RIM * threshold {
-                        stray[m] = true;
-                        next.push(m);
-                    }
-                }
-              }
-              frontier = next;
-            }
+            grow(&mut stray, &at, w, h, RIM * threshold);
             strays[v] = (0..w * h).filter(|&k| stray[k]).collect();
         }
         let total: usize = strays.iter().map(Vec::len).sum();
@@ -143,6 +129,30 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings) -> Result<Option<
     }
     fill(views, &found)?;
     Ok(Some(Strays { per_view: found }))
+}
+
+/// Grows `stray` (a `w`×`h` mask) [`GROWTH`] pixels into its 8-neighbours whose miss `at`
+/// exceeds `rim`: a stroke's soft edge, where it blends with the shading under it.
+fn grow(stray: &mut [bool], at: &[f64], w: usize, h: usize, rim: f64) {
+    let mut frontier: Vec<usize> = (0..w * h).filter(|&k| stray[k]).collect();
+    for _ in 0..GROWTH {
+        let mut next = Vec::new();
+        for k in frontier.drain(..) {
+            let (i, j) = ((k % w) as i64, (k / w) as i64);
+            for (di, dj) in [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (1, 1), (-1, 1), (1, -1)] {
+                let (x, y) = (i + di, j + dj);
+                if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
+                    continue;
+                }
+                let m = y as usize * w + x as usize;
+                if !stray[m] && at[m] > rim {
+                    stray[m] = true;
+                    next.push(m);
+                }
+            }
+        }
+        frontier = next;
+    }
 }
 
 /// Paints the strays (`found[v]`: pixels of view v, unusable until now) with the physical
