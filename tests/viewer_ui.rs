@@ -260,6 +260,50 @@ fn no_label_wraps_inside_a_word() {
     }
 }
 
+/// Texts of the last frame that start in the side panel but run past its right edge (where
+/// they are clipped: a hint wrapped out of sight, a box wider than the panel).
+fn panel_overflow(h: &Harness) -> Vec<String> {
+    fn walk(shape: &egui::epaint::Shape, out: &mut Vec<String>) {
+        match shape {
+            egui::epaint::Shape::Text(t) => {
+                let r = Rect::from_min_size(t.pos, t.galley.size());
+                if r.min.x < PANEL_WIDTH && r.max.x > PANEL_WIDTH - 4.0 {
+                    out.push(format!("'{}' to x = {:.0}", t.galley.text(), r.max.x));
+                }
+            }
+            egui::epaint::Shape::Vec(v) => v.iter().for_each(|s| walk(s, out)),
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    for c in &h.last.as_ref().unwrap().shapes {
+        walk(&c.shape, &mut out);
+    }
+    out
+}
+
+#[test]
+fn a_long_material_name_keeps_the_panel_inside_its_edge() {
+    let dir = tempfile::tempdir().unwrap();
+    let long = dir.path().join("red-plastic-painted-by-hand-with-brush-strokes-v3-final");
+    std::fs::create_dir(&long).unwrap();
+    for f in std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/material-v1")).unwrap() {
+        let f = f.unwrap().path();
+        std::fs::copy(&f, long.join(f.file_name().unwrap())).unwrap();
+    }
+    let mut h = Harness::new(Mode::View);
+    assert!(panel_overflow(&h).is_empty(), "before: {:?}", panel_overflow(&h));
+    h.frame_with_drops(vec![], vec![long]);
+    for _ in 0..3 {
+        h.frame(vec![]);
+    }
+    let drawn: Vec<String> = h.texts().into_iter().map(|t| t.0).collect();
+    assert!(drawn.iter().any(|t| t.contains("brush-strokes")), "the material is open: {drawn:?}");
+    // Measured before the combo boxes truncated their text: the material box ran to
+    // x = 318 and the hint below it wrapped at 318, clipped at the panel's edge.
+    assert!(panel_overflow(&h).is_empty(), "{:?}", panel_overflow(&h));
+}
+
 #[test]
 fn the_status_tells_the_current_state() {
     let mut h = Harness::new(Mode::Paint);

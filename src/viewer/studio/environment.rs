@@ -228,7 +228,7 @@ impl Studio {
         let width = combo_width(ui);
         let mut pick = self.env.name.clone();
         labelled(ui, "environment", |ui| {
-            egui::ComboBox::from_id_salt("environment").width(width).selected_text(short(&pick)).show_ui(ui, |ui| {
+            egui::ComboBox::from_id_salt("environment").width(width).truncate().selected_text(short(&pick)).show_ui(ui, |ui| {
                 ui.selectable_value(&mut pick, NONE.to_string(), NONE);
                 for (name, _) in hdr::BUNDLED {
                     ui.selectable_value(&mut pick, name.to_string(), name);

@@ -28,9 +28,14 @@ pub(super) fn labelled<R>(ui: &mut egui::Ui, label: &str, add: impl FnOnce(&mut 
     .inner
 }
 
+/// What a combo box adds to its `width`: the arrow icon and the button's own padding,
+/// points. Combo boxes also truncate their text: a long material name would otherwise widen
+/// the box past the panel's clipped edge, and the hints below would wrap out of sight.
+const COMBO_ARROW: f32 = 20.0;
+
 /// Width left for a combo box after its label, points.
 pub(super) fn combo_width(ui: &egui::Ui) -> f32 {
-    (ui.available_width() - LABEL_WIDTH - 2.0 * ui.spacing().item_spacing.x - 20.0).max(60.0)
+    (ui.available_width() - LABEL_WIDTH - 2.0 * ui.spacing().item_spacing.x - COMBO_ARROW).max(60.0)
 }
 
 impl Studio {
@@ -71,11 +76,17 @@ impl Studio {
         let width = combo_width(ui);
         let mut pick = self.catalogue.model;
         labelled(ui, "model", |ui| {
-            egui::ComboBox::from_id_salt("model").width(width).selected_text(short(self.catalogue.model_name())).show_ui(ui, |ui| {
-                for (k, m) in self.catalogue.models.iter().enumerate() {
-                    ui.selectable_value(&mut pick, k, short(&m.name));
-                }
-            });
+            egui::ComboBox::from_id_salt("model")
+                .width(width)
+                .truncate()
+                .selected_text(short(self.catalogue.model_name()))
+                .show_ui(ui, |ui| {
+                    for (k, m) in self.catalogue.models.iter().enumerate() {
+                        ui.selectable_value(&mut pick, k, short(&m.name));
+                    }
+                })
+                .response
+                .on_hover_text(self.catalogue.model_name());
         });
         if pick != self.catalogue.model {
             if let Err(e) = self.select_model(renderer, pick) {
@@ -84,11 +95,17 @@ impl Studio {
         }
         let mut pick = self.catalogue.material;
         labelled(ui, "material", |ui| {
-            egui::ComboBox::from_id_salt("material").width(width).selected_text(short(self.catalogue.material_name())).show_ui(ui, |ui| {
-                for (k, m) in self.catalogue.materials.iter().enumerate() {
-                    ui.selectable_value(&mut pick, k, short(&m.name));
-                }
-            });
+            egui::ComboBox::from_id_salt("material")
+                .width(width)
+                .truncate()
+                .selected_text(short(self.catalogue.material_name()))
+                .show_ui(ui, |ui| {
+                    for (k, m) in self.catalogue.materials.iter().enumerate() {
+                        ui.selectable_value(&mut pick, k, short(&m.name));
+                    }
+                })
+                .response
+                .on_hover_text(self.catalogue.material_name());
         });
         self.select_material(pick);
         ui.small("Drop a .glb/.gltf model, a material directory or a painting on the window to open it.");
@@ -139,7 +156,7 @@ impl Studio {
             let mut pick = self.easel.paint_model.clone();
             let width = combo_width(ui);
             labelled(ui, "paint model", |ui| {
-                egui::ComboBox::from_id_salt("paint model").width(width).selected_text(pick.clone()).show_ui(ui, |ui| {
+                egui::ComboBox::from_id_salt("paint model").width(width).truncate().selected_text(pick.clone()).show_ui(ui, |ui| {
                     for n in builtin_models() {
                         ui.selectable_value(&mut pick, n.to_string(), *n);
                     }
