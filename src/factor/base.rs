@@ -233,6 +233,22 @@ impl Base {
         Some((Base { ambient, diffuse: k.map(|x| x[1]), specular: k.map(|x| x[2]), alpha, f0 }, misfit))
     }
 
+    /// Checks a stored lobe: colours finite and non-negative, $0 < \alpha \le 1$ and $0 < F_0
+    /// \le 1$ (the ranges the fit searches; outside them $D$ or $\hat F$ is not finite).
+    pub fn validate(&self) -> std::result::Result<(), String> {
+        let colours = self.ambient.iter().chain(&self.diffuse).chain(&self.specular);
+        if colours.clone().any(|x| !x.is_finite() || *x < 0.0) {
+            return Err("ambient, diffuse and specular must be finite and non-negative".into());
+        }
+        if !(self.alpha > 0.0 && self.alpha <= 1.0) {
+            return Err(format!("alpha {} must be in (0, 1]", self.alpha));
+        }
+        if !(self.f0 > 0.0 && self.f0 <= 1.0) {
+            return Err(format!("f0 {} must be in (0, 1]", self.f0));
+        }
+        Ok(())
+    }
+
     /// $S / B$ at every sample: the values the product is fitted to.
     pub fn ratio(&self, pattern: &Pattern, values: &[[f64; 3]]) -> Vec<[f64; 3]> {
         pattern
