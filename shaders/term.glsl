@@ -12,7 +12,7 @@
 //   float literal, 1.0 for none); HAS_COEF 0 or 1; HAS_BASE 0 or 1.
 // Uniforms: u_factor<k> (sampler), u_res<k> (nodes per axis), u_map_a (per-channel a),
 //   u_coef (sampler) and u_coef_size (texels per axis); with a base u_base_ambient,
-//   u_base_diffuse, u_base_specular (per channel) and u_base_lobe (GGX alpha, Schlick F0).
+//   u_base_diffuse, u_base_specular, u_base_fresnel (per channel) and u_base_alpha (GGX).
 
 uniform sampler2D u_factor0;
 uniform sampler2D u_factor1;
@@ -34,17 +34,19 @@ uniform vec2 u_coef_size;
 uniform vec3 u_base_ambient;
 uniform vec3 u_base_diffuse;
 uniform vec3 u_base_specular;
-uniform vec2 u_base_lobe;
+uniform vec3 u_base_fresnel;
+uniform float u_base_alpha;
 
 // The analytic base, as Base::shading computes it (src/factor/base.rs):
-//   $B = a + \cos^+\theta_l (k_d + k_s D G_1 G_1 \hat F / (4 \cos\theta_l \cos\theta_v))$,
-// GGX's D, Smith's G_1 over 2cos (finite at grazing angles), Schlick's Fresnel over F_0.
+//   $B = a + \cos^+\theta_l (k_d + (k_s + k_f (1 - \cos\theta_d)^5) D G_1 G_1 /
+//   (4 \cos\theta_l \cos\theta_v))$: GGX's D, Smith's G_1 over 2cos (finite at grazing
+//   angles), Schlick's Fresnel as two linear coefficients.
 vec3 term_base(Surface s) {
     float cl = s.l.z;
     float cv = s.v.z;
     vec3 b = u_base_ambient + max(cl, 0.0) * u_base_diffuse;
     if (cl > 0.0 && cv > 0.0) {
-        float alpha = u_base_lobe.x;
+        float alpha = u_base_alpha;
         float a2 = alpha * alpha;
         // Both directions above the horizon, so l + v != 0.
         vec3 h = normalize(s.l + s.v);
@@ -54,8 +56,7 @@ vec3 term_base(Surface s) {
         float gv = 1.0 / (cv + sqrt(a2 + (1.0 - a2) * cv * cv));
         float x = 1.0 - clamp(dot(s.l, h), 0.0, 1.0);
         float x5 = x * x * x * x * x;
-        float fresnel = 1.0 + (1.0 / u_base_lobe.y - 1.0) * x5;
-        b += cl * d * gl * gv * fresnel * u_base_specular;
+        b += cl * d * gl * gv * (u_base_specular + x5 * u_base_fresnel);
     }
     return b;
 }

@@ -420,7 +420,7 @@ fn frame_times_at_1024() {
 #[test]
 fn a_term_over_an_analytic_base_matches_the_cpu() {
     use brdfpaint::factor::base::Base;
-    let base = Base { ambient: [0.02, 0.03, 0.01], diffuse: [0.5, 0.3, 0.2], specular: [0.4, 0.5, 0.6], alpha: 0.15, f0: 0.2 };
+    let base = Base { ambient: [0.02, 0.03, 0.01], diffuse: [0.5, 0.3, 0.2], specular: [0.4, 0.5, 0.6], fresnel: [0.6, 0.5, 0.3], alpha: 0.15 };
     let factors = vec![
         random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 33), 7),
         random_factor(spec(Input::Half, Param::Radius, Domain::Sphere, 64), 8),

@@ -303,8 +303,8 @@ fn print_base(material: &Material) {
     if let Some(b) = material.terms.first().and_then(|t| t.base) {
         let e = material.provenance.errors.unwrap_or_default();
         println!(
-            "base ggx: alpha {:.4}, F0 {}, diffuse [{:.3}, {:.3}, {:.3}], specular [{:.3}, {:.3}, {:.3}]; with the product RMS {:.5}  relative {:.4}",
-            b.alpha, b.f0, b.diffuse[0], b.diffuse[1], b.diffuse[2], b.specular[0], b.specular[1], b.specular[2], e.rms, e.rms_relative
+            "base ggx: alpha {:.4}, diffuse {:.3?}, specular {:.3?}, Fresnel {:.3?}; with the product RMS {:.5}  relative {:.4}",
+            b.alpha, b.diffuse, b.specular, b.fresnel, e.rms, e.rms_relative
         );
     }
 }

@@ -12,13 +12,17 @@
 //! physics extrapolates.
 //!
 //! The lobe, per colour channel $c$, in the local frame ($\cos\theta = z$):
-//! $$ B_c = a_c + \cos^+\theta_l\,\Big(k_{d,c} + k_{s,c}\,\frac{D(\theta_h; \alpha)\,
-//!    G_1(\theta_l)\,G_1(\theta_v)\,\hat F(\theta_d)}{4\cos\theta_l\cos\theta_v}\Big) $$
-//! with GGX's $D$, Smith's $G_1$ and Schlick's Fresnel *shape* $\hat F = 1 + (1/F_0 - 1)(1 -
-//! \cos\theta_d)^5$ (Schlick's $F$ divided by $F_0$, so $k_s$ carries the colour). $a$, $k_d$,
-//! $k_s \ge 0$ come from a weighted non-negative linear least-squares fit; $\alpha$ and $F_0$,
-//! shared by the channels, from a small search. The ambient $a$ is floored
-//! ([`AMBIENT_FLOOR`]) so the ratio stays finite where the lobe is zero (the unlit side).
+//! $$ B_c = a_c + \cos^+\theta_l\,\Big(k_{d,c} + \big(k_{s,c} + k_{f,c}(1 - \cos\theta_d)^5\big)
+//!    \frac{D(\theta_h; \alpha)\, G_1(\theta_l)\,G_1(\theta_v)}{4\cos\theta_l\cos\theta_v}\Big) $$
+//! with GGX's $D$ and Smith's $G_1$. Schlick's Fresnel $F = F_0 + (1 - F_0)(1 -
+//! \cos\theta_d)^5$ times a scale $k$ is $k_s + k_f (1 - \cos\theta_d)^5$ with $k_s = k F_0$,
+//! $k_f = k(1 - F_0)$: linear in both, so every channel has its own $F_0$ at no search cost.
+//! $a$, $k_d$, $k_s$, $k_f \ge 0$ come from a weighted non-negative linear least-squares fit,
+//! $\alpha$ (shared by the channels) from a one-dimensional search. $k_f$ is ridged toward
+//! zero ([`FRESNEL_RIDGE`]): paintings under a light near the camera show $\theta_d$ below
+//! 30°, where $(1 - \cos\theta_d)^5 < 10^{-4}$, and must not invent a Fresnel rise they
+//! cannot see. The ambient $a$ is floored ([`AMBIENT_FLOOR`]) so the ratio stays finite where
+//! the lobe is zero (the unlit side).
 //!
 //! The prepared system depends only on where the samples are (thesis 3.2.2), so the base
 //! changes nothing but the right-hand side: [`solve_based`] divides the values by $B$ and
@@ -43,10 +47,11 @@ pub const AMBIENT_FLOOR: f64 = 0.01;
 
 /// Under [`BaseChoice::Auto`] the lobe is used when its relative misfit on the samples
 /// ($\sqrt{\sum w (B - S)^2 / \sum w S^2}$, [`Base::fit`]) is at most this. Measured on the
-/// wide suite (BENCHMARKS.md, "An analytic base"): GGX truths fit to below 1e-4, every other
-/// model to 0.02 or more (Ward 0.4 0.020, Oren-Nayar 0.030, Minnaert 0.032, Phong 0.10–0.57),
-/// and a lobe that does not fit extrapolates its own grazing terms where the truth has none
-/// (Blinn-Phong 128's rim view 0.17 → 3.8).
+/// wide suite (BENCHMARKS.md, "An analytic base"): GGX truths fit to below 1e-4 from the
+/// standard paintings and 0.0017 from the wide ones (the Fresnel ridge's bias), every other
+/// model to 0.02 or more (Ward 0.4 0.024, Minnaert 0.038, Oren-Nayar 0.055, Phong 0.11 and
+/// up); a lobe that does not fit extrapolates its own grazing terms where the truth has none
+/// (with `ggx` always, Blinn-Phong 128's rim view goes 0.17 → 3.8).
 pub const AUTO_MISFIT: f64 = 0.01;
 
 /// The GGX widths $\alpha$ the fit tries: log-spaced from a near mirror to fully rough.
@@ -57,20 +62,18 @@ const ALPHA_MAX: f64 = 1.0;
 /// 12 take a ±19% bracket to ±0.1%).
 const REFINE_STEPS: usize = 12;
 
-/// Fresnel shapes tried, as Schlick's $F_0$: none (1), a metal, a coloured coat, a
-/// dielectric. The first is preferred unless another fits clearly better
-/// ([`FRESNEL_MARGIN`]): paintings under a light near the camera show $\theta_d$ below 30°,
-/// where $(1 - \cos\theta_d)^5 < 10^{-4}$, and cannot tell the shapes apart.
-const F0S: [f64; 4] = [1.0, 0.5, 0.2, 0.04];
-/// A Fresnel shape other than "none" must lower the weighted residual by this fraction.
-const FRESNEL_MARGIN: f64 = 0.02;
+/// The ridge on the Fresnel coefficient $k_f$, relative to the weighted energy of the
+/// specular column: $k_f$ costs $\lambda \sum w\, s^2 k_f^2$ (with $s$ the lobe without
+/// Fresnel). On front-lit paintings the Fresnel column's energy is ~1e-9 of that, so $k_f$
+/// stays 0; under side and back light (θ_d to 77°) it is 1e-3 to 1e-2 and the data decide.
+const FRESNEL_RIDGE: f64 = 1e-4;
 
 /// The relative weight's softening: samples are weighted by $1/(S + \delta)^2$ with
 /// $\delta$ this fraction of the channel's largest value, so the fit is relative (dark and
 /// bright parts of a painting count alike, as in log space) without dividing by zero.
 const WEIGHT_SOFTENING: f64 = 0.05;
 
-/// At most this many samples enter the search over $\alpha$ and $F_0$ (every k-th sample);
+/// At most this many samples enter the search over $\alpha$ (every k-th sample);
 /// the final linear fit uses all of them.
 const SEARCH_SAMPLES: usize = 4096;
 
@@ -81,12 +84,12 @@ pub struct Base {
     pub ambient: [f64; 3],
     /// Diffuse $k_d$ (of the shading: $k_d \cos\theta_l$; a Lambertian albedo is $\pi k_d$).
     pub diffuse: [f64; 3],
-    /// Specular $k_s$, the colour of the lobe at normal incidence.
+    /// Specular $k_s$, the colour of the lobe at normal incidence (Schlick's $k F_0$).
     pub specular: [f64; 3],
+    /// Fresnel $k_f$, what grazing $\theta_d$ adds (Schlick's $k (1 - F_0)$); 0 for none.
+    pub fresnel: [f64; 3],
     /// GGX width $\alpha$ (= roughness²).
     pub alpha: f64,
-    /// Schlick's $F_0$ of the Fresnel shape; 1 means no Fresnel.
-    pub f0: f64,
 }
 
 /// Which base a fit uses (`fit --base`).
@@ -140,30 +143,30 @@ fn g1_over_2cos(cos: f64, alpha: f64) -> f64 {
     1.0 / (cos + (a2 + (1.0 - a2) * cos * cos).sqrt())
 }
 
-/// The lobe's specular shading at unit $k_s$: $\cos\theta_l\, D\, G_1 G_1 \hat F / (4
-/// \cos\theta_l \cos\theta_v)$; zero when either direction is at or below the horizon.
-pub fn specular_shape(l: DVec3, v: DVec3, alpha: f64, f0: f64) -> f64 {
+/// The lobe's specular shading at unit $k_s$, $s = \cos\theta_l\, D\, G_1 G_1 / (4
+/// \cos\theta_l \cos\theta_v)$, and Schlick's $(1 - \cos\theta_d)^5$; both zero when
+/// either direction is at or below the horizon.
+pub fn specular_shape(l: DVec3, v: DVec3, alpha: f64) -> (f64, f64) {
     let (cl, cv) = (l.z, v.z);
     if cl <= 0.0 || cv <= 0.0 {
-        return 0.0;
+        return (0.0, 0.0);
     }
     // Both above the horizon, so l + v != 0.
     let h = (l + v).normalize();
-    let cos_d = l.dot(h).clamp(0.0, 1.0);
-    let fresnel = 1.0 + (1.0 / f0 - 1.0) * (1.0 - cos_d).powi(5);
-    // $\cos\theta_l \cdot D \cdot \frac{G_1(l)}{2 c_l} \frac{G_1(v)}{2 c_v} \hat F$.
-    cl * ggx_d(h.z, alpha) * g1_over_2cos(cl, alpha) * g1_over_2cos(cv, alpha) * fresnel
+    let x = 1.0 - l.dot(h).clamp(0.0, 1.0);
+    // $\cos\theta_l \cdot D \cdot \frac{G_1(l)}{2 c_l} \frac{G_1(v)}{2 c_v}$.
+    (cl * ggx_d(h.z, alpha) * g1_over_2cos(cl, alpha) * g1_over_2cos(cv, alpha), x.powi(5))
 }
 
 impl Base {
     /// $B(l, v)$ per channel (see the module documentation).
     pub fn shading(&self, q: &Query) -> [f64; 3] {
         let cl = q.l.z.max(0.0);
-        let s = specular_shape(q.l, q.v, self.alpha, self.f0);
-        [0, 1, 2].map(|c| self.ambient[c] + cl * self.diffuse[c] + s * self.specular[c])
+        let (s, x5) = specular_shape(q.l, q.v, self.alpha);
+        [0, 1, 2].map(|c| self.ambient[c] + cl * self.diffuse[c] + s * (self.specular[c] + x5 * self.fresnel[c]))
     }
 
-    /// Fit the lobe to values on a pattern: $\alpha$ and $F_0$ by search, the rest by
+    /// Fit the lobe to values on a pattern: $\alpha$ by search, the rest by
     /// weighted non-negative least squares (weights $1/(S + \delta)^2$, so relative). Returns
     /// the lobe and its relative misfit $\sqrt{\sum w (B - S)^2 / \sum w S^2}$; `None` when
     /// the values are all zero.
@@ -180,32 +183,20 @@ impl Base {
         let delta = max.map(|m| (WEIGHT_SOFTENING * m).max(1e-12));
         let stride = pattern.len().div_ceil(SEARCH_SAMPLES).max(1);
         let search: Vec<usize> = (0..pattern.len()).step_by(stride).collect();
-        let mut best: Option<(f64, f64, f64)> = None; // (residual, alpha, f0)
-        for (k, &f0) in F0S.iter().enumerate() {
-            let mut best_f0: Option<(f64, f64)> = None;
-            for i in 0..ALPHAS {
-                let alpha = ALPHA_MIN * (ALPHA_MAX / ALPHA_MIN).powf(i as f64 / (ALPHAS - 1) as f64);
-                let (res, _) = linear_fit(pattern, values, &search, delta, alpha, f0);
-                if best_f0.is_none_or(|b| res < b.0) {
-                    best_f0 = Some((res, alpha));
-                }
-            }
-            let (res, alpha) = best_f0?;
-            // "No Fresnel" (k = 0) is kept unless a shape lowers the residual clearly.
-            let better = match best {
-                None => true,
-                Some((r, _, _)) => res < r * (1.0 - FRESNEL_MARGIN) || (k == 0 && res < r),
-            };
-            if better {
-                best = Some((res, alpha, f0));
+        let mut best: Option<(f64, f64)> = None; // (residual, alpha)
+        for i in 0..ALPHAS {
+            let alpha = ALPHA_MIN * (ALPHA_MAX / ALPHA_MIN).powf(i as f64 / (ALPHAS - 1) as f64);
+            let (res, ..) = linear_fit(pattern, values, &search, delta, alpha);
+            if best.is_none_or(|b| res < b.0) {
+                best = Some((res, alpha));
             }
         }
-        let (_, alpha, f0) = best?;
+        let (_, alpha) = best?;
         // Refine $\alpha$ between the grid's neighbours by golden-section search on
         // $\log\alpha$: the grid's step (about 19%) alone leaves a GGX truth a misfit of a few
         // percent, which would hide it among the models of other families.
         let step = (ALPHA_MAX / ALPHA_MIN).ln() / (ALPHAS - 1) as f64;
-        let at = |x: f64| linear_fit(pattern, values, &search, delta, x.exp(), f0).0;
+        let at = |x: f64| linear_fit(pattern, values, &search, delta, x.exp()).0;
         let (mut lo, mut hi) = ((alpha.ln() - step).max(ALPHA_MIN.ln()), (alpha.ln() + step).min(ALPHA_MAX.ln()));
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
@@ -225,26 +216,25 @@ impl Base {
         }
         let alpha = if at(alpha.ln()) <= f1.min(f2) { alpha } else if f1 < f2 { x1.exp() } else { x2.exp() };
         let all: Vec<usize> = (0..pattern.len()).collect();
-        let (res, k) = linear_fit(pattern, values, &all, delta, alpha, f0);
-        // The misfit relative to the weighted values: $\sqrt{\sum w (B - S)^2 / \sum w S^2}$.
+        let (res, k, penalty) = linear_fit(pattern, values, &all, delta, alpha);
+        let res = (res - penalty).max(0.0);
+        // The misfit relative to the weighted values: $\sqrt{\sum w (B - S)^2 / \sum w S^2}$
+        // (the data's part of the objective; the ridge's penalty is no misfit).
         let scale: f64 = values.iter().map(|v| (0..3).map(|c| (v[c] / (v[c] + delta[c])).powi(2)).sum::<f64>()).sum();
         let misfit = (res / scale.max(f64::MIN_POSITIVE)).sqrt();
         let ambient = [0, 1, 2].map(|c| k[c][0].max(AMBIENT_FLOOR * max[c]).max(1e-12));
-        Some((Base { ambient, diffuse: k.map(|x| x[1]), specular: k.map(|x| x[2]), alpha, f0 }, misfit))
+        Some((Base { ambient, diffuse: k.map(|x| x[1]), specular: k.map(|x| x[2]), fresnel: k.map(|x| x[3]), alpha }, misfit))
     }
 
-    /// Checks a stored lobe: colours finite and non-negative, $0 < \alpha \le 1$ and $0 < F_0
-    /// \le 1$ (the ranges the fit searches; outside them $D$ or $\hat F$ is not finite).
+    /// Checks a stored lobe: colours finite and non-negative, $0 < \alpha \le 1$ (the range
+    /// the fit searches; at 0 $D$ is a delta function).
     pub fn validate(&self) -> std::result::Result<(), String> {
-        let colours = self.ambient.iter().chain(&self.diffuse).chain(&self.specular);
+        let colours = self.ambient.iter().chain(&self.diffuse).chain(&self.specular).chain(&self.fresnel);
         if colours.clone().any(|x| !x.is_finite() || *x < 0.0) {
             return Err("ambient, diffuse and specular must be finite and non-negative".into());
         }
         if !(self.alpha > 0.0 && self.alpha <= 1.0) {
             return Err(format!("alpha {} must be in (0, 1]", self.alpha));
-        }
-        if !(self.f0 > 0.0 && self.f0 <= 1.0) {
-            return Err(format!("f0 {} must be in (0, 1]", self.f0));
         }
         Ok(())
     }
@@ -264,28 +254,24 @@ impl Base {
     }
 }
 
-/// Weighted non-negative least squares of $(a, k_d, k_s)$ per channel for fixed $\alpha$,
-/// $F_0$ over the samples `idx`: the summed weighted residual and the coefficients.
-fn linear_fit(
-    pattern: &Pattern,
-    values: &[[f64; 3]],
-    idx: &[usize],
-    delta: [f64; 3],
-    alpha: f64,
-    f0: f64,
-) -> (f64, [[f64; 3]; 3]) {
+/// Weighted non-negative least squares of $(a, k_d, k_s, k_f)$ per channel for a fixed
+/// $\alpha$ over the samples `idx` ($k_f$ ridged, [`FRESNEL_RIDGE`]): the summed weighted
+/// residual with the ridge's penalty (what the fit minimizes), the coefficients, and the
+/// penalty alone (so a misfit can leave it out).
+fn linear_fit(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64; 3], alpha: f64) -> (f64, [[f64; 4]; 3], f64) {
     // Normal equations per channel: G = Σ w x xᵀ, b = Σ w x s, c = Σ w s².
-    let mut g = [[[0.0f64; 3]; 3]; 3];
-    let mut b = [[0.0f64; 3]; 3];
+    let mut g = [[[0.0f64; N]; N]; 3];
+    let mut b = [[0.0f64; N]; 3];
     let mut ss = [0.0f64; 3];
     for &i in idx {
         let q = &pattern.queries[i];
-        let x = [1.0, q.l.z.max(0.0), specular_shape(q.l, q.v, alpha, f0)];
+        let (spec, x5) = specular_shape(q.l, q.v, alpha);
+        let x = [1.0, q.l.z.max(0.0), spec, spec * x5];
         for c in 0..3 {
             let s = values[i][c];
             let w = 1.0 / (s + delta[c]).powi(2);
-            for r in 0..3 {
-                for k in 0..3 {
+            for r in 0..N {
+                for k in 0..N {
                     g[c][r][k] += w * x[r] * x[k];
                 }
                 b[c][r] += w * x[r] * s;
@@ -293,35 +279,42 @@ fn linear_fit(
             ss[c] += w * s * s;
         }
     }
-    let mut total = 0.0;
-    let mut coef = [[0.0; 3]; 3];
+    let (mut total, mut penalty) = (0.0, 0.0);
+    let mut coef = [[0.0; N]; 3];
     for c in 0..3 {
-        let (res, k) = nnls3(&g[c], &b[c], ss[c]);
+        // The ridge is part of the objective (so of the residual that picks alpha too).
+        let ridge = FRESNEL_RIDGE * g[c][2][2];
+        g[c][3][3] += ridge;
+        let (res, k) = nnls(&g[c], &b[c], ss[c]);
         total += res;
+        penalty += ridge * k[3] * k[3];
         coef[c] = k;
     }
-    (total, coef)
+    (total, coef, penalty)
 }
 
-/// Non-negative least squares with three unknowns from its normal equations: every subset
-/// of free unknowns (seven) is solved and the best feasible one kept. The residual is
+/// Unknowns of the linear fit: ambient, diffuse, specular, Fresnel.
+const N: usize = 4;
+
+/// Non-negative least squares with [`N`] unknowns from its normal equations: every subset
+/// of free unknowns (fifteen) is solved and the best feasible one kept. The residual is
 /// $c - 2k^\top b + k^\top G k$.
-fn nnls3(g: &[[f64; 3]; 3], b: &[f64; 3], c: f64) -> (f64, [f64; 3]) {
-    let residual = |k: &[f64; 3]| {
+fn nnls(g: &[[f64; N]; N], b: &[f64; N], c: f64) -> (f64, [f64; N]) {
+    let residual = |k: &[f64; N]| {
         let mut r = c;
-        for i in 0..3 {
+        for i in 0..N {
             r -= 2.0 * k[i] * b[i];
-            for j in 0..3 {
+            for j in 0..N {
                 r += k[i] * g[i][j] * k[j];
             }
         }
         r.max(0.0)
     };
-    let mut best = ([0.0; 3], residual(&[0.0; 3]));
-    for mask in 1u8..8 {
-        let free: Vec<usize> = (0..3).filter(|&i| mask & (1 << i) != 0).collect();
+    let mut best = ([0.0; N], residual(&[0.0; N]));
+    for mask in 1u8..(1 << N) {
+        let free: Vec<usize> = (0..N).filter(|&i| mask & (1 << i) != 0).collect();
         let n = free.len();
-        let mut a = [[0.0f64; 4]; 3];
+        let mut a = [[0.0f64; N + 1]; N];
         for (r, &i) in free.iter().enumerate() {
             for (k, &j) in free.iter().enumerate() {
                 a[r][k] = g[i][j];
@@ -335,7 +328,7 @@ fn nnls3(g: &[[f64; 3]; 3], b: &[f64; 3], c: f64) -> (f64, [f64; 3]) {
         if x.iter().take(n).any(|&v| v < 0.0 || !v.is_finite()) {
             continue;
         }
-        let mut k = [0.0; 3];
+        let mut k = [0.0; N];
         for (r, &i) in free.iter().enumerate() {
             k[i] = x[r];
         }
@@ -347,10 +340,10 @@ fn nnls3(g: &[[f64; 3]; 3], b: &[f64; 3], c: f64) -> (f64, [f64; 3]) {
     (best.1, best.0)
 }
 
-/// Gaussian elimination with partial pivoting on an n × (n+1) augmented system (n ≤ 3),
+/// Gaussian elimination with partial pivoting on an n × (n+1) augmented system (n ≤ [`N`]),
 /// the right-hand side in column n.
-#[allow(clippy::needless_range_loop)] // index loops over a 3×4 array read best as the math
-fn solve_small(a: &mut [[f64; 4]; 3], n: usize) -> Option<[f64; 3]> {
+#[allow(clippy::needless_range_loop)] // index loops over a small array read best as the math
+fn solve_small(a: &mut [[f64; N + 1]; N], n: usize) -> Option<[f64; N]> {
     for col in 0..n {
         let p = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
         if a[p][col].abs() < 1e-300 {
@@ -364,7 +357,7 @@ fn solve_small(a: &mut [[f64; 4]; 3], n: usize) -> Option<[f64; 3]> {
             }
         }
     }
-    let mut x = [0.0; 3];
+    let mut x = [0.0; N];
     for r in (0..n).rev() {
         let mut s = a[r][n];
         for k in r + 1..n {
@@ -458,15 +451,18 @@ mod tests {
         assert!(e < 0.1, "relative RMS of the base alone {e}");
     }
 
-    /// nnls3 on a problem with a known non-negative solution and one with a clamped unknown.
+    /// nnls on a problem with a known non-negative solution and one with a clamped unknown.
     #[test]
-    fn nnls3_solves_and_clamps() {
-        // G = I, b = (1, 2, 3): k = b.
-        let g = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-        let (r, k) = nnls3(&g, &[1.0, 2.0, 3.0], 14.0);
-        assert!((k[0] - 1.0).abs() < 1e-9 && (k[1] - 2.0).abs() < 1e-9 && (k[2] - 3.0).abs() < 1e-9 && r < 1e-9, "{k:?} {r}");
-        // b = (1, -2, 3): the second unknown is clamped at zero.
-        let (_, k) = nnls3(&g, &[1.0, -2.0, 3.0], 14.0);
-        assert!(k[1] == 0.0 && (k[0] - 1.0).abs() < 1e-9 && (k[2] - 3.0).abs() < 1e-9, "{k:?}");
+    fn nnls_solves_and_clamps() {
+        // G = I, b = (1, 2, 3, 4): k = b, residual c - |b|² = 0.
+        let mut g = [[0.0; N]; N];
+        for (i, row) in g.iter_mut().enumerate() {
+            row[i] = 1.0;
+        }
+        let (r, k) = nnls(&g, &[1.0, 2.0, 3.0, 4.0], 30.0);
+        assert!(k.iter().zip([1.0, 2.0, 3.0, 4.0]).all(|(a, b)| (a - b).abs() < 1e-9) && r < 1e-9, "{k:?} {r}");
+        // b = (1, -2, 3, 4): the second unknown is clamped at zero.
+        let (_, k) = nnls(&g, &[1.0, -2.0, 3.0, 4.0], 30.0);
+        assert!(k[1] == 0.0 && (k[0] - 1.0).abs() < 1e-9 && (k[2] - 3.0).abs() < 1e-9 && (k[3] - 4.0).abs() < 1e-9, "{k:?}");
     }
 }

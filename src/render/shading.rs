@@ -102,8 +102,8 @@ pub(crate) struct GpuTerm {
     pub factors: Vec<(Texture2D, f32)>,
     pub coefficients: Option<Texture2D>,
     pub map_a: Vec3,
-    /// The analytic base's uniforms (`HAS_BASE`): ambient, diffuse, specular, (alpha, F0).
-    pub base: Option<[Vec3; 4]>,
+    /// The analytic base's uniforms (`HAS_BASE`): ambient, diffuse, specular, Fresnel; alpha.
+    pub base: Option<([Vec3; 4], f32)>,
     /// `#define`s selecting the shader layout; also the program cache key.
     pub defines: Vec<(&'static str, String)>,
     pub key: String,
@@ -126,11 +126,12 @@ impl GpuTerm {
             program.set_f32(FACTOR_UNIFORMS[j][1], *res);
         }
         program.set_vec3("u_map_a", self.map_a);
-        if let Some([ambient, diffuse, specular, lobe]) = self.base {
+        if let Some(([ambient, diffuse, specular, fresnel], alpha)) = self.base {
             program.set_vec3("u_base_ambient", ambient);
             program.set_vec3("u_base_diffuse", diffuse);
             program.set_vec3("u_base_specular", specular);
-            program.set_vec2("u_base_lobe", lobe.truncate());
+            program.set_vec3("u_base_fresnel", fresnel);
+            program.set_f32("u_base_alpha", alpha);
         }
         if let Some(c) = &self.coefficients {
             c.bind(COEF_UNIT);
@@ -200,7 +201,7 @@ impl GpuShading {
             defines.push(("HAS_COEF", (coefficients.is_some() as i32).to_string()));
             defines.push(("HAS_BASE", (term.base.is_some() as i32).to_string()));
             let v3 = |x: [f64; 3]| Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32);
-            let base = term.base.map(|b| [v3(b.ambient), v3(b.diffuse), v3(b.specular), Vec3::new(b.alpha as f32, b.f0 as f32, 0.0)]);
+            let base = term.base.map(|b| ([v3(b.ambient), v3(b.diffuse), v3(b.specular), v3(b.fresnel)], b.alpha as f32));
             let key = defines.iter().map(|(n, v)| format!("{n}={v}")).collect::<Vec<_>>().join(",");
             terms.push(GpuTerm {
                 factors,
