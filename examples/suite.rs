@@ -68,13 +68,25 @@ fn main() -> brdfpaint::Result<()> {
     let base_s = brdfpaint::study::bench::median_time(20, 1.0, || {
         std::hint::black_box(brdfpaint::factor::base::Base::fit(&pattern, &values));
     });
+    // A whole solve (three mappings, errors on the samples), plain and over a fixed base.
+    let plain_s = brdfpaint::study::bench::median_time(50, 1.0, || {
+        std::hint::black_box(prepared.solve(&values, brdfpaint::factor::Mapping::Auto).expect("solve"));
+    });
+    let (lobe, _) = brdfpaint::factor::base::Base::fit(&pattern, &values).expect("a lobe");
+    let on_base_s = brdfpaint::study::bench::median_time(50, 1.0, || {
+        let fit = brdfpaint::factor::base::solve_on_base(&prepared, &pattern, &values, brdfpaint::factor::Mapping::Auto, &lobe);
+        std::hint::black_box(fit.expect("solve"));
+    });
     println!(
-        "one painting: {} samples, {} unknowns, prepare {:.2} ms, solve {:.3} ms (median), base fit {:.1} ms (median)",
+        "one painting: {} samples, {} unknowns, prepare {:.2} ms, solve {:.3} ms (median); base fit {:.1} ms; \
+         solve with auto mapping {:.2} ms plain, {:.2} ms over a base (medians)",
         prepared.samples(),
         prepared.unknowns(),
         prepared.prepare_s * 1e3,
         solve_s * 1e3,
-        base_s * 1e3
+        base_s * 1e3,
+        plain_s * 1e3,
+        on_base_s * 1e3
     );
     let sharp = sharp_model();
     for (label, painted) in [("1 view", paintings(1)), ("3 views", paintings(3))] {

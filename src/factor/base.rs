@@ -238,20 +238,6 @@ impl Base {
         }
         Ok(())
     }
-
-    /// $S / B$ at every sample: the values the product is fitted to.
-    pub fn ratio(&self, pattern: &Pattern, values: &[[f64; 3]]) -> Vec<[f64; 3]> {
-        pattern
-            .queries
-            .iter()
-            .zip(values)
-            .map(|(q, v)| {
-                let b = self.shading(q);
-                // b >= the ambient floor > 0.
-                [0, 1, 2].map(|c| v[c] / b[c])
-            })
-            .collect()
-    }
 }
 
 /// Weighted non-negative least squares of $(a, k_d, k_s, k_f)$ per channel for a fixed
@@ -399,11 +385,19 @@ pub fn solve_based(prepared: &Prepared, pattern: &Pattern, values: &[[f64; 3]], 
         BaseChoice::Ggx => Base::fit(pattern, values).map(|b| b.0),
         BaseChoice::Auto => Base::fit(pattern, values).filter(|b| b.1 <= AUTO_MISFIT).map(|b| b.0),
     };
-    let Some(base) = base else {
-        return Ok(BasedFit { base: None, fit: prepared.solve(values, mapping)? });
-    };
-    let ratio = base.ratio(pattern, values);
+    match base {
+        Some(base) => solve_on_base(prepared, pattern, values, mapping, &base),
+        None => Ok(BasedFit { base: None, fit: prepared.solve(values, mapping)? }),
+    }
+}
+
+/// The product of `prepared` fitted to $S / B$ for a given lobe (the part of
+/// [`solve_based`] after the lobe's fit): $B$ once per sample, then the prepared solve of
+/// the ratio under each mapping, kept by its error on $S$.
+pub fn solve_on_base(prepared: &Prepared, pattern: &Pattern, values: &[[f64; 3]], mapping: Mapping, base: &Base) -> Result<BasedFit> {
     let bs: Vec<[f64; 3]> = pattern.queries.iter().map(|q| base.shading(q)).collect();
+    // B >= the ambient floor > 0 (Base::fit), so the ratio is finite.
+    let ratio: Vec<[f64; 3]> = values.iter().zip(&bs).map(|(v, b)| [0, 1, 2].map(|c| v[c] / b[c])).collect();
     let on_s = |fit: &Fit| -> Errors {
         let p = prepared.predict(&fit.tables, &fit.map);
         let p: Vec<[f64; 3]> = p.iter().zip(&bs).map(|(p, b)| [0, 1, 2].map(|c| p[c] * b[c])).collect();
@@ -426,7 +420,7 @@ pub fn solve_based(prepared: &Prepared, pattern: &Pattern, values: &[[f64; 3]], 
     }
     let mut fit = best.ok_or_else(|| Error::Numeric("no mapping gave a finite fit".into()))?;
     fit.tried = tried;
-    Ok(BasedFit { base: Some(base), fit })
+    Ok(BasedFit { base: Some(*base), fit })
 }
 
 #[cfg(test)]
