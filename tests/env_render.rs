@@ -193,6 +193,25 @@ fn one_d_factors_match_monte_carlo() {
     compare(&material, camera, 0.0, 256, CONVERGED_TOL, "1D p(l) q(h) r(v), 256 directions");
 }
 
+/// A term over an analytic GGX base (issue 15): the environment pass evaluates the base
+/// through the same `term_product` as the key-light pass, so its estimate of a glossy GGX
+/// lobe under the sky must meet the same stated tolerances against Monte Carlo (measured
+/// worst 5.2%, mean 0.65% with 64 directions; 1.4%, 0.17% with 256).
+#[test]
+fn a_term_over_an_analytic_base_matches_monte_carlo() {
+    use brdfpaint::factor::base::Base;
+    let base = Base { ambient: [0.0; 3], diffuse: [0.2, 0.15, 0.1], specular: [0.3, 0.3, 0.35], fresnel: [0.5, 0.5, 0.45], alpha: 0.3 };
+    let material = uniform(Term {
+        base: Some(base),
+        factors: vec![smooth_factor(spec(Input::View, Param::Radius, Domain::Sphere, 16))],
+        map: identity(),
+        coefficients: None,
+    });
+    let camera = DVec3::new(0.2, 0.3, 1.0);
+    compare(&material, camera, 0.0, DEFAULT_SAMPLES, DEFAULT_TOL, "GGX base times r(v)");
+    compare(&material, camera, 0.0, 256, CONVERGED_TOL, "GGX base times r(v), 256 directions");
+}
+
 #[test]
 fn two_d_factors_match_monte_carlo_and_rotation() {
     // Parabolic 2D factors of l and h (anisotropic: they see the tangent frame).
