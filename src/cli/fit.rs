@@ -396,10 +396,12 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
             report_path.display()
         ),
         None => {
+            // The mappings tried by the plain product; with a base, the material's own
+            // mapping (chosen the same way for S / B) is the one kept.
             print_mappings(&solved.fit);
             println!(
                 "kept {}: RMS {:.5}  relative {:.4}  max {:.4}; wrote {} and {}",
-                solved.fit.map.name(),
+                m.terms[0].map.name(),
                 e.rms,
                 e.rms_relative,
                 e.max,
