@@ -3,25 +3,38 @@
 //! and three paintings of the sphere and from MERL-style dense sampling (`fit --merl`'s grid,
 //! k = 16, 8192 pairs), judged on the wide suite's five held-out views (`study::suite`).
 //!
-//! `cargo run --release --example merl_fits [-- ../shared/data/merl-fits/merl_abc_fits_low2012.csv]`
+//! `cargo run --release --example merl_fits [-- ../shared/data/merl-fits/merl_abc_fits_low2012.csv] [--base]`
+//!
+//! With `--base`: the warped default without and with the analytic base (`factor::base`,
+//! `ggx` and `auto`).
 
 use brdfpaint::brdf::{Abc, Reflectance, SphereView};
 use brdfpaint::factor::{Pattern, Settings};
 use brdfpaint::study::median;
-use brdfpaint::study::suite::{dense, measure_on, paintings, Row};
+use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::study::suite::{dense, measure_on_based, paintings, Row};
 
 fn main() -> brdfpaint::Result<()> {
-    let path = std::env::args().nth(1).unwrap_or_else(|| "../shared/data/merl-fits/merl_abc_fits_low2012.csv".into());
+    let path = std::env::args().skip(1).find(|a| !a.starts_with("--")).unwrap_or_else(|| "../shared/data/merl-fits/merl_abc_fits_low2012.csv".into());
     let text = std::fs::read_to_string(&path).map_err(|e| brdfpaint::Error::io(std::path::Path::new(&path), e))?;
     let materials = Abc::parse_csv(&text)?;
     let named: Vec<(String, &dyn Reflectance)> = materials.iter().map(|m| (m.name.clone(), m as &dyn Reflectance)).collect();
     let painted = |n: usize| Pattern::concat(&paintings(n).iter().map(SphereView::pattern).collect::<Vec<_>>());
     let sources = [("1 painting", painted(1)), ("3 paintings", painted(3)), ("dense", dense(16)?)];
-    let settings = [("unwarped", Settings::warped(1.0)), ("warped", Settings::default())];
+    // `--base` adds the analytic base (`factor::base`) beside the warped default.
+    let based = std::env::args().any(|a| a == "--base");
+    let mut settings = vec![("unwarped", Settings::warped(1.0), BaseChoice::None), ("warped", Settings::default(), BaseChoice::None)];
+    if based {
+        settings = vec![
+            ("warped", Settings::default(), BaseChoice::None),
+            ("+ base ggx", Settings::default(), BaseChoice::Ggx),
+            ("+ base auto", Settings::default(), BaseChoice::Auto),
+        ];
+    }
     let mut columns: Vec<(String, Vec<Row>)> = Vec::new();
     for (source, pattern) in &sources {
-        for (label, s) in &settings {
-            columns.push((format!("{source}: {label}"), measure_on(pattern, &named, s)?));
+        for (label, s, base) in &settings {
+            columns.push((format!("{source}: {label}"), measure_on_based(pattern, &named, s, *base)?));
         }
     }
     print!("| material |");

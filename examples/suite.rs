@@ -4,12 +4,22 @@
 //!
 //! `cargo run --release --example suite [-- FACTORS]` where FACTORS names the settings:
 //! `default` (the thesis's p(l) q(h) r(v)), or one of the candidates listed by `--list`.
+//! `--base ggx` fits an analytic GGX lobe first and the product to S / B
+//! (`factor::base`); `--base none` (the default) is the thesis's product alone.
 
 use brdfpaint::brdf::Analytic;
-use brdfpaint::study::suite::{held_out, measure, paintings, peaks, sharp_model, summary, wide_paintings};
+use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::study::suite::{held_out, measure_based, paintings, peaks_based, sharp_model, summary, wide_paintings};
 
 fn main() -> brdfpaint::Result<()> {
-    let name = std::env::args().nth(1).unwrap_or_else(|| "default".into());
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let mut base = BaseChoice::None;
+    if let Some(i) = args.iter().position(|a| a == "--base") {
+        let kind = args.get(i + 1).ok_or_else(|| brdfpaint::Error::input("--base needs a value (none or ggx)"))?;
+        base = kind.parse()?;
+        args.drain(i..i + 2);
+    }
+    let name = args.first().cloned().unwrap_or_else(|| "default".into());
     let candidates = brdfpaint::study::suite::candidates();
     if name == "--list" {
         for (n, _) in &candidates {
@@ -21,11 +31,11 @@ fn main() -> brdfpaint::Result<()> {
         return Err(brdfpaint::Error::input(format!("unknown settings '{name}' (see --list)")));
     };
     let models = Analytic::wide_suite();
-    let one = measure(&models, settings, &paintings(1))?;
-    let three = measure(&models, settings, &paintings(3))?;
-    let wide = measure(&models, settings, &wide_paintings())?;
+    let one = measure_based(&models, settings, &paintings(1), base)?;
+    let three = measure_based(&models, settings, &paintings(3), base)?;
+    let wide = measure_based(&models, settings, &wide_paintings(), base)?;
     let views: Vec<&str> = held_out(2).iter().map(|(n, _)| *n).collect();
-    println!("settings '{name}': held-out relative RMS (pooled over {} views), train, and per view from 3 paintings", views.len());
+    println!("settings '{name}', base {base}: held-out relative RMS (pooled over {} views), train, and per view from 3 paintings", views.len());
     print!("{:<22} {:>7} {:>7} {:>7} {:>7} {:>7}", "model", "1 view", "3 views", "3 wide", "train1", "train3");
     for v in &views {
         print!(" {v:>7}");
@@ -54,17 +64,34 @@ fn main() -> brdfpaint::Result<()> {
     let solve_s = brdfpaint::study::bench::median_time(200, 1.0, || {
         std::hint::black_box(prepared.solve_tables(&values, &map).expect("solve"));
     });
+    // The base's own fit (the search over alpha and F0 and the linear fit), once per fit.
+    let base_s = brdfpaint::study::bench::median_time(20, 1.0, || {
+        std::hint::black_box(brdfpaint::factor::base::Base::fit(&pattern, &values));
+    });
+    // A whole solve (three mappings, errors on the samples), plain and over a fixed base.
+    let plain_s = brdfpaint::study::bench::median_time(50, 1.0, || {
+        std::hint::black_box(prepared.solve(&values, brdfpaint::factor::Mapping::Auto).expect("solve"));
+    });
+    let (lobe, _) = brdfpaint::factor::base::Base::fit(&pattern, &values).expect("a lobe");
+    let on_base_s = brdfpaint::study::bench::median_time(50, 1.0, || {
+        let fit = brdfpaint::factor::base::solve_on_base(&prepared, &pattern, &values, brdfpaint::factor::Mapping::Auto, &lobe);
+        std::hint::black_box(fit.expect("solve"));
+    });
     println!(
-        "one painting: {} samples, {} unknowns, prepare {:.2} ms, solve {:.3} ms (median)",
+        "one painting: {} samples, {} unknowns, prepare {:.2} ms, solve {:.3} ms (median); base fit {:.1} ms; \
+         solve with auto mapping {:.2} ms plain, {:.2} ms over a base (medians)",
         prepared.samples(),
         prepared.unknowns(),
         prepared.prepare_s * 1e3,
-        solve_s * 1e3
+        solve_s * 1e3,
+        base_s * 1e3,
+        plain_s * 1e3,
+        on_base_s * 1e3
     );
     let sharp = sharp_model();
     for (label, painted) in [("1 view", paintings(1)), ("3 views", paintings(3))] {
         print!("{} peak from {label}, fitted/true per held-out view:", sharp.name());
-        for (view, fitted, truth) in peaks(&sharp, settings, &painted)? {
+        for (view, fitted, truth) in peaks_based(&sharp, settings, &painted, base)? {
             print!(" {view} {:.3}", fitted / truth);
         }
         println!();

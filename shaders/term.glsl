@@ -1,16 +1,18 @@
 // One term of a factored shading function (thesis eq. 3.1), the one GLSL evaluation of a
 // material, shared by the key-light pass (factored.frag) and the environment pass (env.frag):
-//   $f = \mathrm{inv}(\prod_j p_j(\pi_j(l, v, uv))) \cdot c(uv)$.
-// term_product(s) is the mapped product at the Surface's (l, h, v, uv); term_coefficient(s)
-// is c(uv), 1 without a coefficient texture.
+//   $f = B(l, v) \cdot \mathrm{inv}(\prod_j p_j(\pi_j(l, v, uv))) \cdot c(uv)$.
+// term_product(s) is the mapped product at the Surface's (l, h, v, uv) times the term's
+// analytic base B (issue 15, src/factor/base.rs; 1 without one); term_coefficient(s) is
+// c(uv), 1 without a coefficient texture.
 //
 // Compile-time layout (prepended #defines, see src/render/shading.rs):
 //   NUM_FACTORS 0..6; F<k>_INPUT, F<k>_PARAM, F<k>_DOMAIN per factor and MAP_KIND name
 //   param.glsl's codes (INPUT_LIGHT, PARAM_RADIUS, DOMAIN_SPHERE, MAP_OFFSET, ...), the one
 //   place they are defined; F<k>_DIM 1 or 2; F<k>_WARP the node warp of a radius axis (a
-//   float literal, 1.0 for none); HAS_COEF 0 or 1.
+//   float literal, 1.0 for none); HAS_COEF 0 or 1; HAS_BASE 0 or 1.
 // Uniforms: u_factor<k> (sampler), u_res<k> (nodes per axis), u_map_a (per-channel a),
-//   u_coef (sampler) and u_coef_size (texels per axis).
+//   u_coef (sampler) and u_coef_size (texels per axis); with a base u_base_ambient,
+//   u_base_diffuse, u_base_specular, u_base_fresnel (per channel) and u_base_alpha (GGX).
 
 uniform sampler2D u_factor0;
 uniform sampler2D u_factor1;
@@ -28,6 +30,37 @@ uniform vec3 u_map_a;
 uniform sampler2D u_coef;
 uniform vec2 u_coef_size;
 
+#if HAS_BASE
+uniform vec3 u_base_ambient;
+uniform vec3 u_base_diffuse;
+uniform vec3 u_base_specular;
+uniform vec3 u_base_fresnel;
+uniform float u_base_alpha;
+
+// The analytic base, as Base::shading computes it (src/factor/base.rs):
+//   $B = a + \cos^+\theta_l (k_d + (k_s + k_f (1 - \cos\theta_d)^5) D G_1 G_1 /
+//   (4 \cos\theta_l \cos\theta_v))$: GGX's D, Smith's G_1 over 2cos (finite at grazing
+//   angles), Schlick's Fresnel as two linear coefficients.
+vec3 term_base(Surface s) {
+    float cl = s.l.z;
+    float cv = s.v.z;
+    vec3 b = u_base_ambient + max(cl, 0.0) * u_base_diffuse;
+    if (cl > 0.0 && cv > 0.0) {
+        float alpha = u_base_alpha;
+        float a2 = alpha * alpha;
+        // Both directions above the horizon, so l + v != 0.
+        vec3 h = normalize(s.l + s.v);
+        float t = (a2 - 1.0) * h.z * h.z + 1.0;
+        float d = a2 / (3.14159265358979 * t * t);
+        float gl = 1.0 / (cl + sqrt(a2 + (1.0 - a2) * cl * cl));
+        float gv = 1.0 / (cv + sqrt(a2 + (1.0 - a2) * cv * cv));
+        float x = 1.0 - clamp(dot(s.l, h), 0.0, 1.0);
+        float x5 = x * x * x * x * x;
+        b += cl * d * gl * gv * (u_base_specular + x5 * u_base_fresnel);
+    }
+    return b;
+}
+#endif
 
 vec3 factor(sampler2D tex, int input_kind, int param, int domain, int dim, float warp, float m, Surface s) {
     vec2 t = table_coordinate(input_kind, param, domain, s.l, s.h, s.v, s.uv);
@@ -67,6 +100,9 @@ vec3 term_product(Surface s) {
     vec3 f = max(u_map_a - prod, 0.0);
 #else
     vec3 f = max(prod, 0.0);
+#endif
+#if HAS_BASE
+    f *= term_base(s);
 #endif
     return f;
 }

@@ -671,8 +671,9 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
     bad_material(&missing, "term0-factor1-half.exr");
     let version = copy("version");
     let j = std::fs::read_to_string(version.join("material.json")).unwrap();
-    std::fs::write(version.join("material.json"), j.replace("\"version\": 2", "\"version\": 3")).unwrap();
-    bad_material(&version, "version 3");
+    let (now, next) = (brdfpaint::material::VERSION, brdfpaint::material::VERSION + 1);
+    std::fs::write(version.join("material.json"), j.replace(&format!("\"version\": {now}"), &format!("\"version\": {next}"))).unwrap();
+    bad_material(&version, &format!("version {next}"));
     let size = copy("size");
     Rgb { width: 5, height: 1, pixels: vec![[1.0; 3]; 5] }.write_exr(&size.join("term0-factor0-light.exr")).unwrap();
     bad_material(&size, "5x1");

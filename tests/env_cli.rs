@@ -47,7 +47,7 @@ fn material(dir: &Path) -> PathBuf {
             .collect(),
     };
     let half = smooth_factor(spec(Input::Half, Param::Radius, Domain::Sphere, 16));
-    let m = uniform(Term { factors: vec![light, half], map: LogMap::Identity { floor: [1e-3; 3] }, coefficients: None });
+    let m = uniform(Term { base: None, factors: vec![light, half], map: LogMap::Identity { floor: [1e-3; 3] }, coefficients: None });
     let path = dir.join("mat");
     m.save(&path).unwrap();
     path

@@ -179,7 +179,7 @@ fn cosine(res: usize, k: [f32; 3]) -> Factor {
 #[test]
 fn one_d_factors_match_monte_carlo() {
     // p(l) q(h) r(v): a diffuse cosine, a glossy lobe on h, a smooth view factor.
-    let material = uniform(Term {
+    let material = uniform(Term { base: None,
         factors: vec![
             cosine(32, [0.25, 0.2, 0.15]),
             lobe(32, 0.6, 3.0, 0.12),
@@ -193,10 +193,29 @@ fn one_d_factors_match_monte_carlo() {
     compare(&material, camera, 0.0, 256, CONVERGED_TOL, "1D p(l) q(h) r(v), 256 directions");
 }
 
+/// A term over an analytic GGX base (issue 15): the environment pass evaluates the base
+/// through the same `term_product` as the key-light pass, so its estimate of a glossy GGX
+/// lobe under the sky must meet the same stated tolerances against Monte Carlo (measured
+/// worst 5.2%, mean 0.65% with 64 directions; 1.4%, 0.17% with 256).
+#[test]
+fn a_term_over_an_analytic_base_matches_monte_carlo() {
+    use brdfpaint::factor::base::Base;
+    let base = Base { ambient: [0.0; 3], diffuse: [0.2, 0.15, 0.1], specular: [0.3, 0.3, 0.35], fresnel: [0.5, 0.5, 0.45], alpha: 0.3 };
+    let material = uniform(Term {
+        base: Some(base),
+        factors: vec![smooth_factor(spec(Input::View, Param::Radius, Domain::Sphere, 16))],
+        map: identity(),
+        coefficients: None,
+    });
+    let camera = DVec3::new(0.2, 0.3, 1.0);
+    compare(&material, camera, 0.0, DEFAULT_SAMPLES, DEFAULT_TOL, "GGX base times r(v)");
+    compare(&material, camera, 0.0, 256, CONVERGED_TOL, "GGX base times r(v), 256 directions");
+}
+
 #[test]
 fn two_d_factors_match_monte_carlo_and_rotation() {
     // Parabolic 2D factors of l and h (anisotropic: they see the tangent frame).
-    let material = uniform(Term {
+    let material = uniform(Term { base: None,
         factors: vec![
             cosine(32, [0.3, 0.25, 0.2]),
             smooth_factor(spec(Input::Light, Param::Parabolic, Domain::Sphere, 12)),
@@ -214,12 +233,12 @@ fn two_d_factors_match_monte_carlo_and_rotation() {
 #[test]
 fn material_map_matches_monte_carlo() {
     // Two terms blended by coefficient textures over uv, one with an offset mapping.
-    let rough = Term {
+    let rough = Term { base: None,
         factors: vec![cosine(32, [0.3, 0.15, 0.1])],
         map: identity(),
         coefficients: Some(Coefficients::grey(4, &[1.0, 0.2, 0.8, 0.0, 0.5, 1.0, 0.1, 0.9, 0.3, 0.7, 1.0, 0.2, 0.0, 0.6, 0.4, 1.0])),
     };
-    let shiny = Term {
+    let shiny = Term { base: None,
         factors: vec![cosine(32, [1.0; 3]), lobe(32, 1.2, 2.0, 0.1)],
         map: LogMap::Offset { a: [0.05; 3] },
         coefficients: Some(Coefficients::grey(2, &[0.05, 0.2, 0.15, 0.0])),
@@ -236,7 +255,7 @@ fn furnace_lambertian_shows_its_albedo() {
     let ctx = HeadlessContext::new().unwrap();
     let mut r = Renderer::new(ctx.gl()).unwrap();
     let albedo = [0.8, 0.5, 0.2];
-    let material = uniform(Term { factors: vec![cosine(64, albedo.map(|a| a / std::f32::consts::PI))], map: identity(), coefficients: None });
+    let material = uniform(Term { base: None, factors: vec![cosine(64, albedo.map(|a| a / std::f32::consts::PI))], map: identity(), coefficients: None });
     let scene = ortho_sphere(DVec3::new(0.3, 0.2, 1.0), sun(DVec3::Y, [1.0; 3]));
     let (image, g) = render(&mut r, &scene, &material, &Environment::uniform([1.0; 3]), plain);
     let mut worst = 0.0f64;
@@ -262,7 +281,7 @@ fn furnace_lambertian_shows_its_albedo() {
 fn furnace_energy_conserving_material_never_exceeds_one() {
     let ctx = HeadlessContext::new().unwrap();
     let mut r = Renderer::new(ctx.gl()).unwrap();
-    let unscaled = uniform(Term { factors: vec![cosine(32, [1.0; 3]), lobe(32, 0.3, 6.0, 0.08)], map: identity(), coefficients: None });
+    let unscaled = uniform(Term { base: None, factors: vec![cosine(32, [1.0; 3]), lobe(32, 0.3, 6.0, 0.08)], map: identity(), coefficients: None });
     let scene = ortho_sphere(DVec3::new(0.1, 0.4, 1.0), sun(DVec3::Y, [1.0; 3]));
     let white = Environment::uniform([1.0; 3]);
     // Scale the material so its largest albedo over the views seen is 0.97.
@@ -314,7 +333,7 @@ fn rotation_by_half_a_turn_equals_the_shifted_image() {
         (0..env.width * env.height).map(|k| env.pixels[(k / env.width) * env.width + (k % env.width + env.width / 2) % env.width]).collect(),
     )
     .unwrap();
-    let material = uniform(Term { factors: vec![cosine(32, [0.3; 3]), lobe(32, 0.5, 3.0, 0.15)], map: identity(), coefficients: None });
+    let material = uniform(Term { base: None, factors: vec![cosine(32, [0.3; 3]), lobe(32, 0.5, 3.0, 0.15)], map: identity(), coefficients: None });
     let scene = perspective_sphere(DVec3::new(0.5, 0.8, 3.0), 0.9, sun(DVec3::Y, [1.0; 3]));
     let (turned, _) = render(&mut r, &scene, &material, &env, |e| Lighting { rotate_deg: 180.0, ..Lighting::new(e) });
     let (shifted_image, _) = render(&mut r, &scene, &material, &shifted, plain);
@@ -334,7 +353,7 @@ fn rotation_by_half_a_turn_equals_the_shifted_image() {
 fn black_environment_with_the_key_light_is_the_point_light_render() {
     let ctx = HeadlessContext::new().unwrap();
     let mut r = Renderer::new(ctx.gl()).unwrap();
-    let material = uniform(Term {
+    let material = uniform(Term { base: None,
         factors: vec![cosine(32, [0.3; 3]), smooth_factor(spec(Input::Half, Param::Parabolic, Domain::Sphere, 8))],
         map: identity(),
         coefficients: None,

@@ -176,7 +176,7 @@ fn all_passes_cover_the_same_pixels() {
     };
     let gpu = GpuScene::upload(ctx.gl(), &scene).unwrap();
     let (w, h) = (120, 80);
-    let shading = uniform(Term {
+    let shading = uniform(Term { base: None,
         factors: vec![random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 8), 1)],
         map: LogMap::Identity { floor: [1e-3; 3] },
         coefficients: None,
@@ -369,7 +369,7 @@ fn bad_input_is_an_error_not_a_panic() {
     let gl = ctx.gl();
     let scene = ortho_sphere(DVec3::Z, sun(DVec3::Z, [1.0; 3]));
     let gpu = GpuScene::upload(gl, &scene).unwrap();
-    let good = uniform(Term {
+    let good = uniform(Term { base: None,
         factors: vec![random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 8), 1)],
         map: LogMap::Identity { floor: [1e-3; 3] },
         coefficients: None,
@@ -405,7 +405,7 @@ fn bad_input_is_an_error_not_a_panic() {
     let mut nan = good.clone();
     nan.terms[0].factors[0].texels[3][1] = f32::NAN;
     assert!(r.upload(&nan).is_err());
-    let short = uniform(Term {
+    let short = uniform(Term { base: None,
         factors: vec![Factor {
             spec: spec(Input::Half, Param::Parabolic, Domain::Hemisphere, 8),
             texels: vec![[1.0; 3]; 8],

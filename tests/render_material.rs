@@ -45,7 +45,7 @@ fn two_terms() -> Material {
     Material {
         kind: Kind::Hybrid,
         terms: vec![
-            Term {
+            Term { base: None,
                 factors: vec![
                     random_table(Input::Light, Param::Radius, Domain::Sphere, 33, &mut rng),
                     random_table(Input::Half, Param::Parabolic, Domain::Hemisphere, 12, &mut rng),
@@ -53,7 +53,7 @@ fn two_terms() -> Material {
                 map: LogMap::Offset { a: [0.05, 0.1, 0.02] },
                 coefficients: Some(Coefficients::grey(8, &c0)),
             },
-            Term {
+            Term { base: None,
                 factors: vec![
                     random_table(Input::View, Param::Hemispherical, Domain::Hemisphere, 9, &mut rng),
                     random_table(Input::Uv, Param::Uv, Domain::Hemisphere, 16, &mut rng),

@@ -10,6 +10,7 @@ use super::Failure;
 use brdfpaint::brdf::Merl;
 use brdfpaint::error::{Error, Result};
 use brdfpaint::factor::cache::{Cache, Outcome};
+use brdfpaint::factor::base::BaseChoice;
 use brdfpaint::factor::{defaults, prepare, FactorSpec, Fit, Mapping, Pattern, Settings};
 use brdfpaint::litsphere;
 use brdfpaint::material::{map, Kind, Material};
@@ -114,6 +115,12 @@ pub(super) struct FitArgs {
     /// Log mapping: auto, identity, offset[:A], inverted[:A].
     #[arg(long, default_value = "auto")]
     mapping: Mapping,
+    /// An analytic base under the product of a uniform fit (the product is fitted to
+    /// S / B): auto (a GGX lobe when it alone fits the paintings closely, else none), none
+    /// (the thesis's product), ggx (always; better on measured materials, BENCHMARKS.md).
+    /// Material maps, hybrids and lit spheres fit no base.
+    #[arg(long, default_value = "auto")]
+    base: BaseChoice,
     /// Pixels removed along the silhouette: a pixel within N steps (8-neighbourhood) of the
     /// background is not a sample.
     #[arg(long, value_name = "N", default_value_t = 1)]
@@ -209,7 +216,8 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
     let solve_s = start.elapsed().as_secs_f64();
     let provenance =
         pipeline::provenance(vec![merl_path.display().to_string()], Some(fit.errors), pattern.len(), prepared.prepare_s, solve_s);
-    let material = Material::from_fit(settings, &fit, provenance)?;
+    let plain = Material::from_fit(settings, &fit, provenance.clone())?;
+    let material = Material::fit_based(&prepared, &pattern, &values, settings, args.mapping, args.base, provenance)?.unwrap_or(plain);
     pipeline::save_material(&material, &args.out)?;
     println!(
         "{} samples, {} unknowns: prepare {:.1} ms ({}), solve {:.2} ms",
@@ -220,6 +228,7 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
         solve_s * 1e3
     );
     print_mappings(&fit);
+    print_base(&material);
     println!("kept {}; wrote {}", fit.map.name(), args.out.display());
     Ok(())
 }
@@ -294,6 +303,17 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
     Ok(())
 }
 
+/// One line on the material's analytic base, when it has one.
+fn print_base(material: &Material) {
+    if let Some(b) = material.terms.first().and_then(|t| t.base) {
+        let e = material.provenance.errors.unwrap_or_default();
+        println!(
+            "base ggx: alpha {:.4}, diffuse {:.3?}, specular {:.3?}, Fresnel {:.3?}; with the product RMS {:.5}  relative {:.4}",
+            b.alpha, b.diffuse, b.specular, b.fresnel, e.rms, e.rms_relative
+        );
+    }
+}
+
 fn print_mappings(fit: &Fit) {
     for (map, e) in &fit.tried {
         println!("  mapping {:<8} RMS {:.5}  relative {:.4}  max {:.4}", map.name(), e.rms, e.rms_relative, e.max);
@@ -313,6 +333,16 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
         println!("note: {note}");
     }
     let mut fitted = pipeline::fit(&views, opts, Cache::user().as_ref())?;
+    if opts.kind == Kind::Uniform {
+        // The base re-solves on the uniform fit's prepared system: one more solve, and the
+        // lobe's own fit (BENCHMARKS.md: about 6 ms for 7.6k samples).
+        let (s, provenance) = (&fitted.samples, fitted.material.provenance.clone());
+        let based = Material::fit_based(&fitted.solved.prepared, &s.pattern, &s.values, &opts.settings, opts.mapping, args.base, provenance)?;
+        if let Some(m) = based {
+            fitted.material = m;
+        }
+        print_base(&fitted.material);
+    }
     // How the paintings were read goes into material.json too, before the fit's own notes.
     fitted.material.provenance.notes.splice(0..0, notes.iter().cloned());
     if let Some((report, _)) = &fitted.map {
@@ -373,10 +403,12 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
             report_path.display()
         ),
         None => {
+            // The mappings tried by the plain product; with a base, the material's own
+            // mapping (chosen the same way for S / B) is the one kept.
             print_mappings(&solved.fit);
             println!(
                 "kept {}: RMS {:.5}  relative {:.4}  max {:.4}; wrote {} and {}",
-                solved.fit.map.name(),
+                m.terms[0].map.name(),
                 e.rms,
                 e.rms_relative,
                 e.max,

@@ -13,8 +13,10 @@
 //! - [`Mapping`]: linear-to-log mappings (3.2.3).
 //! - [`robust`]: [`Prepared::solve_robust`], the fit of a hand-made painting (robust loss,
 //!   paint levels, a light prior, bounded tables) on the same prepared system.
+//! - [`base`]: an analytic lobe under the product; the product is fitted to $S / B$.
 //! - [`cache`]: prepared systems saved to disk, keyed by pattern and settings.
 
+pub mod base;
 pub mod cache;
 pub mod mapping;
 pub mod param;

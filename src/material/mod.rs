@@ -3,9 +3,10 @@
 //! A material is a sum of terms, each a product of factor tables under a log mapping,
 //! weighted by an optional coefficient texture over the surface (thesis 4.2.2):
 //!
-//! $$ S(l, v, uv) = \sum_k c_k(uv)\, m_k^{-1}\Big(\prod_j p_{kj}(\pi_{kj}(l, v, uv))\Big) $$
+//! $$ S(l, v, uv) = \sum_k c_k(uv)\, B_k(l, v)\, m_k^{-1}\Big(\prod_j p_{kj}(\pi_{kj}(l, v, uv))\Big) $$
 //!
-//! A uniform material is one term without coefficients. Tables are stored as linear-space
+//! where $B_k$ is the term's optional analytic base ([`crate::factor::base`], issue 15; 1
+//! without one). A uniform material is one term without coefficients. Tables are stored as linear-space
 //! values in `f32`, exactly as the shader samples them, so the CPU evaluation here is the
 //! reference the GL renderer is tested against.
 
@@ -18,6 +19,7 @@ use crate::brdf::Reflectance;
 use crate::error::{Error, Result};
 use crate::factor::system::coordinate;
 use crate::factor::table::{stencil_1d, stencil_2d};
+use crate::factor::base::{Base, BasedFit};
 use crate::factor::{Errors, FactorSpec, Fit, Input, LogMap, Query, Settings};
 
 /// The four kinds of the thesis (DESIGN.md, Material directory).
@@ -65,12 +67,16 @@ pub struct Coefficients {
     pub texels: Vec<[f32; 3]>,
 }
 
-/// A product of factors under a log mapping, optionally weighted over the surface.
+/// A product of factors under a log mapping, optionally over an analytic base and weighted
+/// over the surface.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Term {
     pub factors: Vec<Factor>,
     pub map: LogMap,
     pub coefficients: Option<Coefficients>,
+    /// The analytic lobe $B(l, v)$ the mapped product multiplies, when the fit used one
+    /// (`fit --base`; uniform materials only: material maps and live painting fit none).
+    pub base: Option<Base>,
 }
 
 /// What [`Provenance::tool`] says: this tool and its version.
@@ -144,14 +150,16 @@ impl Coefficients {
 }
 
 impl Term {
-    /// The term's value at a query (before its coefficient).
+    /// The term's value at a query (before its coefficient): $B(l, v)\, m^{-1}(\prod_j
+    /// p_j)$, as `shaders/term.glsl` computes it.
     pub fn eval(&self, q: &Query) -> [f64; 3] {
         let mut prod = [1.0; 3];
         for f in &self.factors {
             let x = f.lookup(q);
             prod = [0, 1, 2].map(|c| prod[c] * x[c]);
         }
-        [0, 1, 2].map(|c| self.map.inverse(c, prod[c]))
+        let b = self.base.as_ref().map_or([1.0; 3], |b| b.shading(q));
+        [0, 1, 2].map(|c| b[c] * self.map.inverse(c, prod[c]))
     }
 }
 
@@ -176,7 +184,41 @@ impl Material {
             .map(|(spec, t)| Factor { spec: spec.clone(), texels: t.iter().map(|x| x.map(|c| c as f32)).collect() })
             .collect();
         let kind = if settings.factors.iter().any(|f| f.input == Input::Uv) { Kind::FourFactor } else { Kind::Uniform };
-        Ok(Material { kind, terms: vec![Term { factors, map: fit.map, coefficients: None }], provenance })
+        Ok(Material { kind, terms: vec![Term { base: None, factors, map: fit.map, coefficients: None }], provenance })
+    }
+
+    /// A uniform (or four-factor) material from a fit over an analytic base
+    /// ([`crate::factor::base::solve_based`]): [`Material::from_fit`] with the base kept.
+    pub fn from_based_fit(settings: &Settings, fit: &BasedFit, provenance: Provenance) -> Result<Material> {
+        let mut material = Material::from_fit(settings, &fit.fit, provenance)?;
+        material.terms[0].base = fit.base;
+        Ok(material)
+    }
+
+    /// A uniform material over an analytic base (issue 15, [`crate::factor::base`]): the lobe
+    /// of `choice` fitted to `values`, then the product of `prepared` (prepared on `pattern`
+    /// with `settings`) fitted to $S / B$. The prepared system is the one of the plain fit:
+    /// the base changes only the right-hand side. `None` when `choice` gives no base (`none`,
+    /// or `auto` when the lobe does not fit the samples): keep the plain fit then.
+    /// `provenance.errors` is replaced by the based fit's errors on $S$.
+    pub fn fit_based(
+        prepared: &crate::factor::Prepared,
+        pattern: &crate::factor::Pattern,
+        values: &[[f64; 3]],
+        settings: &Settings,
+        mapping: crate::factor::Mapping,
+        choice: crate::factor::base::BaseChoice,
+        provenance: Provenance,
+    ) -> Result<Option<Material>> {
+        if choice == crate::factor::base::BaseChoice::None {
+            return Ok(None);
+        }
+        let fit = crate::factor::base::solve_based(prepared, pattern, values, mapping, choice)?;
+        if fit.base.is_none() {
+            return Ok(None);
+        }
+        let provenance = Provenance { errors: Some(fit.fit.errors), ..provenance };
+        Material::from_based_fit(settings, &fit, provenance).map(Some)
     }
 
     /// Whether any factor or coefficient texture looks up texture coordinates.

@@ -20,6 +20,7 @@ use serde::{Deserialize, Serialize};
 use super::{Coefficients, Factor, Kind, Material, Provenance, Term};
 use crate::commit::StagedDir;
 use crate::error::{Error, Result};
+use crate::factor::base::Base;
 use crate::factor::{FactorSpec, LogMap};
 use crate::images::Rgb;
 
@@ -27,11 +28,12 @@ use crate::images::Rgb;
 pub const FORMAT: &str = "brdfpaint-material";
 /// The version this build writes. Version 2 added the half/difference inputs
 /// (`difference`, `half-difference` with the `radii` parameterization) and the node warp of
-/// radius tables (`warp`, absent when 1).
-pub const VERSION: u32 = 2;
+/// radius tables (`warp`, absent when 1). Version 3 added a term's analytic base (`base`:
+/// ambient, diffuse, specular per channel, GGX `alpha`, Fresnel `f0`; absent without one).
+pub const VERSION: u32 = 3;
 /// The versions this build reads: version 1 files are version 2 files without those
-/// (every factor unwarped).
-pub const READS: [u32; 2] = [1, 2];
+/// (every factor unwarped), version 2 files are version 3 files without bases.
+pub const READS: [u32; 3] = [1, 2, 3];
 /// Largest material.json read (the provenance is the only part that grows).
 const MAX_JSON_BYTES: u64 = 16 << 20;
 
@@ -53,6 +55,8 @@ struct FileTerm {
     mapping: LogMap,
     factors: Vec<FileFactor>,
     coefficients: Option<FileCoefficients>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    base: Option<Base>,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -114,7 +118,7 @@ impl Material {
                 }
                 None => None,
             };
-            terms.push(FileTerm { mapping: term.map, factors, coefficients });
+            terms.push(FileTerm { mapping: term.map, factors, coefficients, base: term.base });
         }
         let file = FileMaterial {
             format: FORMAT.into(),
@@ -182,7 +186,7 @@ impl Material {
                 }
                 None => None,
             };
-            terms.push(Term { factors, map: t.mapping, coefficients });
+            terms.push(Term { base: t.base, factors, map: t.mapping, coefficients });
         }
         let material = Material { kind: file.kind, terms, provenance: file.provenance };
         material.validate(&json_path)?;
@@ -212,6 +216,9 @@ impl Material {
             }
             if t.map.constant().iter().any(|x| !x.is_finite()) {
                 return bad(format!("term {k}: mapping constant is not finite"));
+            }
+            if let Some(b) = &t.base {
+                b.validate().or_else(|e| bad(format!("term {k}: base: {e}")))?;
             }
             if let Some(c) = &t.coefficients {
                 if c.res < 2 || c.res > super::map::MAX_COEF_RES || c.texels.len() != c.res * c.res {

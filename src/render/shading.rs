@@ -78,6 +78,9 @@ pub fn check(material: &Material) -> Result<()> {
         if !term.map.constant().iter().all(|x| x.is_finite()) {
             return Err(Error::input(format!("term {k}: mapping constant is not finite")));
         }
+        if let Some(b) = &term.base {
+            b.validate().map_err(|e| Error::input(format!("term {k}: base: {e}")))?;
+        }
         if let Some(c) = &term.coefficients {
             if c.res == 0 || c.texels.len() != c.res * c.res {
                 return Err(Error::input(format!(
@@ -99,6 +102,8 @@ pub(crate) struct GpuTerm {
     pub factors: Vec<(Texture2D, f32)>,
     pub coefficients: Option<Texture2D>,
     pub map_a: Vec3,
+    /// The analytic base's uniforms (`HAS_BASE`): ambient, diffuse, specular, Fresnel; alpha.
+    pub base: Option<([Vec3; 4], f32)>,
     /// `#define`s selecting the shader layout; also the program cache key.
     pub defines: Vec<(&'static str, String)>,
     pub key: String,
@@ -121,6 +126,13 @@ impl GpuTerm {
             program.set_f32(FACTOR_UNIFORMS[j][1], *res);
         }
         program.set_vec3("u_map_a", self.map_a);
+        if let Some(([ambient, diffuse, specular, fresnel], alpha)) = self.base {
+            program.set_vec3("u_base_ambient", ambient);
+            program.set_vec3("u_base_diffuse", diffuse);
+            program.set_vec3("u_base_specular", specular);
+            program.set_vec3("u_base_fresnel", fresnel);
+            program.set_f32("u_base_alpha", alpha);
+        }
         if let Some(c) = &self.coefficients {
             c.bind(COEF_UNIT);
             program.set_i32("u_coef", COEF_UNIT as i32);
@@ -187,11 +199,15 @@ impl GpuShading {
                 None => None,
             };
             defines.push(("HAS_COEF", (coefficients.is_some() as i32).to_string()));
+            defines.push(("HAS_BASE", (term.base.is_some() as i32).to_string()));
+            let v3 = |x: [f64; 3]| Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32);
+            let base = term.base.map(|b| ([v3(b.ambient), v3(b.diffuse), v3(b.specular), v3(b.fresnel)], b.alpha as f32));
             let key = defines.iter().map(|(n, v)| format!("{n}={v}")).collect::<Vec<_>>().join(",");
             terms.push(GpuTerm {
                 factors,
                 coefficients,
                 map_a: Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32),
+                base,
                 defines,
                 key,
             });
@@ -250,7 +266,7 @@ mod tests {
     }
 
     fn uniform(factors: Vec<Factor>) -> Material {
-        Material::new(Kind::Uniform, vec![Term { factors, map: LogMap::Identity { floor: [1e-3; 3] }, coefficients: None }])
+        Material::new(Kind::Uniform, vec![Term { base: None, factors, map: LogMap::Identity { floor: [1e-3; 3] }, coefficients: None }])
     }
 
     #[test]

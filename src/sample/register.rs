@@ -40,7 +40,9 @@ use crate::render::GBuffer;
 pub const RADIUS_DEG: f64 = 20.0;
 /// A turn is kept only when the factored fit's relative RMS with it is at least this
 /// fraction below its RMS with the scene's light.
-pub const MIN_GAIN: f64 = 0.05;
+/// (10%: at 5% a clean render of a GGX sphere from two views, whose joint fit misses it
+/// structurally, was turned 5° for a 6% gain.)
+pub const MIN_GAIN: f64 = 0.1;
 /// A turn is kept only when the painting, lit from there, looks like one material: the
 /// factored fit's relative RMS at most this (or it gains [`CLEAR_GAIN`]). A painting of several materials (bands of
 /// albedo) is explained better by some light or other, never well, and its light is the

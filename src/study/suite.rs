@@ -13,6 +13,7 @@ use glam::DVec3;
 use super::{median, relative_rms};
 use crate::brdf::{held_out_views, painted_views, Analytic, Reflectance, SphereView};
 use crate::error::Result;
+use crate::factor::base::{solve_based, BaseChoice};
 use crate::factor::{prepare, Mapping, Pattern, Settings};
 
 /// Pixels per side of a painted view.
@@ -70,9 +71,14 @@ pub fn wide_paintings() -> Vec<SphereView> {
 
 /// Fit every model from `painted` views with `settings` and judge it.
 pub fn measure(models: &[Analytic], settings: &Settings, painted: &[SphereView]) -> Result<Vec<Row>> {
+    measure_based(models, settings, painted, BaseChoice::None)
+}
+
+/// [`measure`] with an analytic base under the product ([`crate::factor::base`]).
+pub fn measure_based(models: &[Analytic], settings: &Settings, painted: &[SphereView], base: BaseChoice) -> Result<Vec<Row>> {
     let pattern = Pattern::concat(&painted.iter().map(SphereView::pattern).collect::<Vec<_>>());
     let named: Vec<(String, &dyn Reflectance)> = models.iter().map(|m| (m.name(), m as &dyn Reflectance)).collect();
-    measure_on(&pattern, &named, settings)
+    measure_on_based(&pattern, &named, settings, base)
 }
 
 /// MERL-style dense sampling: the (light, view) grid of `fit --merl` at density `k`
@@ -84,17 +90,23 @@ pub fn dense(k: usize) -> Result<Pattern> {
 /// Fit every named reflectance from its values on `pattern` with `settings`, and judge it on
 /// [`held_out`].
 pub fn measure_on(pattern: &Pattern, models: &[(String, &dyn Reflectance)], settings: &Settings) -> Result<Vec<Row>> {
+    measure_on_based(pattern, models, settings, BaseChoice::None)
+}
+
+/// [`measure_on`] with a base under the product: one prepared system for every model and
+/// both choices, since the base changes only the values (the right-hand side).
+pub fn measure_on_based(pattern: &Pattern, models: &[(String, &dyn Reflectance)], settings: &Settings, base: BaseChoice) -> Result<Vec<Row>> {
     let prepared = prepare(pattern, settings)?;
     let views: Vec<Vec<crate::factor::Query>> =
         held_out(HELD_OUT_RES).iter().map(|(_, v)| v.pixels().into_iter().map(|p| p.query).collect()).collect();
     let mut rows = Vec::new();
     for (name, model) in models {
         let values = pattern.shade(|q| model.shading(q));
-        let fit = prepared.solve(&values, Mapping::Auto)?;
+        let fit = solve_based(&prepared, pattern, &values, Mapping::Auto, base)?;
         let pairs = |qs: &[crate::factor::Query]| qs.iter().map(|q| (fit.eval(settings, q), model.shading(q))).collect::<Vec<_>>();
         let per_view: Vec<f64> = views.iter().map(|qs| relative_rms(pairs(qs))).collect();
         let pooled = relative_rms(views.iter().flat_map(|qs| pairs(qs)));
-        rows.push(Row { model: name.clone(), train: fit.errors.rms_relative, held_out: pooled, views: per_view });
+        rows.push(Row { model: name.clone(), train: fit.fit.errors.rms_relative, held_out: pooled, views: per_view });
     }
     Ok(rows)
 }
@@ -113,9 +125,14 @@ pub const PEAK_RES: usize = 160;
 /// largest fitted and true value of $S$ (the sum of its channels) over the view's pixels,
 /// as (view, fitted, true). The fit is from `painted` views with `settings`.
 pub fn peaks(model: &Analytic, settings: &Settings, painted: &[SphereView]) -> Result<Vec<(&'static str, f64, f64)>> {
+    peaks_based(model, settings, painted, BaseChoice::None)
+}
+
+/// [`peaks`] with a base under the product.
+pub fn peaks_based(model: &Analytic, settings: &Settings, painted: &[SphereView], base: BaseChoice) -> Result<Vec<(&'static str, f64, f64)>> {
     let pattern = Pattern::concat(&painted.iter().map(SphereView::pattern).collect::<Vec<_>>());
     let values = pattern.shade(|q| model.shading(q));
-    let fit = prepare(&pattern, settings)?.solve(&values, Mapping::Auto)?;
+    let fit = solve_based(&prepare(&pattern, settings)?, &pattern, &values, Mapping::Auto, base)?;
     let sum = |x: [f64; 3]| x[0] + x[1] + x[2];
     Ok(held_out(PEAK_RES)
         .into_iter()

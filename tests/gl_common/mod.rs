@@ -131,7 +131,8 @@ pub fn coef_lookup(c: &Coefficients, uv: [f64; 2]) -> [f64; 3] {
 
 /// $S(q)$ of a shading function on the CPU, in f64, through `brdfpaint::factor`: table
 /// coordinates from `system::coordinate`, linear/bilinear lookups from `table`, the
-/// mapping's `inverse`, the coefficient texture bilinearly.
+/// mapping's `inverse`, the coefficient texture bilinearly, the term's analytic base
+/// (`factor::base::Base::shading`).
 pub fn cpu_shading(shading: &Material, q: &Query) -> [f64; 3] {
     let mut sum = [0.0; 3];
     for term in &shading.terms {
@@ -149,10 +150,12 @@ pub fn cpu_shading(shading: &Material, q: &Query) -> [f64; 3] {
             }
         }
         let coef = term.coefficients.as_ref().map_or([1.0; 3], |c| coef_lookup(c, [q.uv.x, q.uv.y]));
+        // The term's analytic base (issue 15), f64 on the CPU.
+        let base = term.base.map_or([1.0; 3], |b| b.shading(q));
         for c in 0..3 {
             // The renderer clamps every mapping at zero; LogMap::inverse clamps offset and
             // inverted, and identity products are positive.
-            sum[c] += term.map.inverse(c, prod[c]).max(0.0) * coef[c];
+            sum[c] += term.map.inverse(c, prod[c]).max(0.0) * coef[c] * base[c];
         }
     }
     sum

@@ -131,5 +131,5 @@ fn term(prepared: &Prepared, tables: &[Vec<[f64; 3]>], map: LogMap, coefficients
         .zip(tables)
         .map(|(spec, t)| Factor { spec: spec.clone(), texels: t.iter().map(|x| x.map(|v| v as f32)).collect() })
         .collect();
-    Term { factors, map, coefficients: Some(coefficients) }
+    Term { base: None, factors, map, coefficients: Some(coefficients) }
 }

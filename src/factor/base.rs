@@ -1,0 +1,468 @@
+//! An analytic base under the factored product (issue 15): $S \approx B(l, v)\,
+//! m^{-1}\big(\prod_j p_j\big)$.
+//!
+//! The thesis fits the product to $S$ itself (eq. 3.1). Where no painting has data (light
+//! from behind, grazing views) the tables then hold whatever the smoothing and damping
+//! extrapolate, and no product of isotropic $(l, h, v)$ tables holds a microfacet lobe's
+//! Fresnel, masking and $1/(\cos\theta_l\cos\theta_v)$ (BENCHMARKS.md, "The wide suite").
+//! Here a small physically based lobe $B$ is fitted to the samples first, and the product
+//! is fitted to the ratio $S / B$ in the usual log space (eq. 3.2, with the mappings of
+//! eqs. 3.13–3.16 applied to the ratio): where the paintings have data the tables correct
+//! $B$, where they have none the damping pulls the tables toward a constant and $B$'s
+//! physics extrapolates.
+//!
+//! The lobe, per colour channel $c$, in the local frame ($\cos\theta = z$):
+//! $$ B_c = a_c + \cos^+\theta_l\,\Big(k_{d,c} + \big(k_{s,c} + k_{f,c}(1 - \cos\theta_d)^5\big)
+//!    \frac{D(\theta_h; \alpha)\, G_1(\theta_l)\,G_1(\theta_v)}{4\cos\theta_l\cos\theta_v}\Big) $$
+//! with GGX's $D$ and Smith's $G_1$. Schlick's Fresnel $F = F_0 + (1 - F_0)(1 -
+//! \cos\theta_d)^5$ times a scale $k$ is $k_s + k_f (1 - \cos\theta_d)^5$ with $k_s = k F_0$,
+//! $k_f = k(1 - F_0)$: linear in both, so every channel has its own $F_0$ at no search cost.
+//! $a$, $k_d$, $k_s$, $k_f \ge 0$ come from a weighted non-negative linear least-squares fit,
+//! $\alpha$ (shared by the channels) from a one-dimensional search. $k_f$ is ridged toward
+//! zero ([`FRESNEL_RIDGE`]): paintings under a light near the camera show $\theta_d$ below
+//! 30°, where $(1 - \cos\theta_d)^5 < 10^{-4}$, and must not invent a Fresnel rise they
+//! cannot see. The ambient $a$ is floored ([`AMBIENT_FLOOR`]) so the ratio stays finite where
+//! the lobe is zero (the unlit side).
+//!
+//! The prepared system depends only on where the samples are (thesis 3.2.2), so the base
+//! changes nothing but the right-hand side: [`solve_based`] divides the values by $B$ and
+//! calls the same [`Prepared::solve`]. Prepare once, solve fast, as before.
+
+use std::f64::consts::PI;
+use std::fmt;
+use std::str::FromStr;
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use super::mapping::Mapping;
+use super::pattern::{Pattern, Query};
+use super::prepared::{errors, Errors, Fit, Prepared, INVERTED_MARGIN};
+use crate::error::{Error, Result};
+
+/// The ambient floor, relative to the largest sample value of the channel: $B \ge$ this
+/// everywhere, so $S / B$ is finite on the unlit side (where the lobe is zero) and a
+/// painting's unlit tones (Gooch's cool side) have a denominator to sit on.
+pub const AMBIENT_FLOOR: f64 = 0.01;
+
+/// Under [`BaseChoice::Auto`] the lobe is used when its relative misfit on the samples
+/// ($\sqrt{\sum w (B - S)^2 / \sum w S^2}$, [`Base::fit`]) is at most this. Measured on the
+/// wide suite (BENCHMARKS.md, "An analytic base"): GGX truths fit to below 1e-4 from the
+/// standard paintings and 0.0017 from the wide ones (the Fresnel ridge's bias), every other
+/// model to 0.0197 or more (Ward 0.4, then Oren-Nayar 0.030, Minnaert 0.032, Phong 0.11 and
+/// up); a lobe that does not fit extrapolates its own grazing terms where the truth has none
+/// (with `ggx` always, Blinn-Phong 128's rim view goes 0.17 → 3.8). The nearest other model
+/// is Ward 0.4 from one painting, 0.0197; an 8-bit PNG painting of a GGX sphere (front and
+/// side light, unclipped) measures 0.013, its quantization included (`tests/fit_cli.rs`): the
+/// threshold sits between the two, with little margin on either side.
+pub const AUTO_MISFIT: f64 = 0.015;
+
+/// The GGX widths $\alpha$ the fit tries: log-spaced from a near mirror to fully rough.
+const ALPHAS: usize = 28;
+const ALPHA_MIN: f64 = 0.01;
+const ALPHA_MAX: f64 = 1.0;
+/// Golden-section steps refining $\alpha$ after the grid (each shrinks the bracket by 0.618:
+/// 12 take a ±19% bracket to ±0.1%).
+const REFINE_STEPS: usize = 12;
+
+/// The ridge on the Fresnel coefficient $k_f$, relative to the weighted energy of the
+/// specular column: $k_f$ costs $\lambda \sum w\, s^2 k_f^2$ (with $s$ the lobe without
+/// Fresnel). The Fresnel column is the specular one times $(1 - \cos\theta_d)^5$, below 2e-5
+/// on front-lit paintings, so its energy there is far below the ridge and $k_f$ stays 0
+/// (measured on the suite's standard paintings); under side and back light (the wide
+/// paintings, θ_d to 77°) the data decide, and GGX's $1 - F_0$ comes back within 4%.
+const FRESNEL_RIDGE: f64 = 1e-4;
+
+/// The relative weight's softening: samples are weighted by $1/(S + \delta)^2$ with
+/// $\delta$ this fraction of the channel's largest value, so the fit is relative (dark and
+/// bright parts of a painting count alike, as in log space) without dividing by zero.
+const WEIGHT_SOFTENING: f64 = 0.05;
+
+/// At most this many samples enter the search over $\alpha$ (every k-th sample);
+/// the final linear fit uses all of them.
+const SEARCH_SAMPLES: usize = 4096;
+
+/// An analytic lobe under the factors. See the module documentation for the formula.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Base {
+    /// Ambient $a$, per channel (already floored).
+    pub ambient: [f64; 3],
+    /// Diffuse $k_d$ (of the shading: $k_d \cos\theta_l$; a Lambertian albedo is $\pi k_d$).
+    pub diffuse: [f64; 3],
+    /// Specular $k_s$, the colour of the lobe at normal incidence (Schlick's $k F_0$).
+    pub specular: [f64; 3],
+    /// Fresnel $k_f$, what grazing $\theta_d$ adds (Schlick's $k (1 - F_0)$); 0 for none.
+    pub fresnel: [f64; 3],
+    /// GGX width $\alpha$ (= roughness²).
+    pub alpha: f64,
+}
+
+/// Which base a fit uses (`fit --base`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BaseChoice {
+    /// The thesis's plain product.
+    None,
+    /// A GGX lobe under the product, always.
+    Ggx,
+    /// A GGX lobe when it alone fits the samples within [`AUTO_MISFIT`], else none: the
+    /// default, never worse than `None` on the wide suite or the MERL ABC fits (BENCHMARKS.md).
+    #[default]
+    Auto,
+}
+
+impl FromStr for BaseChoice {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "none" => Ok(BaseChoice::None),
+            "ggx" => Ok(BaseChoice::Ggx),
+            "auto" => Ok(BaseChoice::Auto),
+            _ => Err(Error::input(format!("unknown base '{s}': expected auto, none or ggx"))),
+        }
+    }
+}
+
+impl fmt::Display for BaseChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            BaseChoice::None => "none",
+            BaseChoice::Ggx => "ggx",
+            BaseChoice::Auto => "auto",
+        })
+    }
+}
+
+/// GGX's $D(\theta_h) = \alpha^2 / (\pi((\alpha^2 - 1)\cos^2\theta_h + 1)^2)$.
+fn ggx_d(cos_h: f64, alpha: f64) -> f64 {
+    let a2 = alpha * alpha;
+    let t = (a2 - 1.0) * cos_h * cos_h + 1.0;
+    // t >= min(a2, 1) > 0 for alpha > 0 (the fit never tries alpha = 0).
+    a2 / (PI * t * t)
+}
+
+/// Smith's $G_1$ for GGX, divided by $2\cos\theta$: $1/(\cos\theta + \sqrt{\alpha^2 + (1 -
+/// \alpha^2)\cos^2\theta})$. Dividing out the cosine keeps the lobe finite at grazing angles
+/// where $G_1/\cos\theta$ is, and saves the division by $4\cos\theta_l\cos\theta_v$.
+fn g1_over_2cos(cos: f64, alpha: f64) -> f64 {
+    let a2 = alpha * alpha;
+    1.0 / (cos + (a2 + (1.0 - a2) * cos * cos).sqrt())
+}
+
+/// The lobe's specular shading at unit $k_s$, $s = \cos\theta_l\, D\, G_1 G_1 / (4
+/// \cos\theta_l \cos\theta_v)$, and Schlick's $(1 - \cos\theta_d)^5$; both zero when
+/// either direction is at or below the horizon.
+pub fn specular_shape(l: DVec3, v: DVec3, alpha: f64) -> (f64, f64) {
+    let (cl, cv) = (l.z, v.z);
+    if cl <= 0.0 || cv <= 0.0 {
+        return (0.0, 0.0);
+    }
+    // Both above the horizon, so l + v != 0.
+    let h = (l + v).normalize();
+    let x = 1.0 - l.dot(h).clamp(0.0, 1.0);
+    // $\cos\theta_l \cdot D \cdot \frac{G_1(l)}{2 c_l} \frac{G_1(v)}{2 c_v}$.
+    (cl * ggx_d(h.z, alpha) * g1_over_2cos(cl, alpha) * g1_over_2cos(cv, alpha), x.powi(5))
+}
+
+impl Base {
+    /// $B(l, v)$ per channel (see the module documentation).
+    pub fn shading(&self, q: &Query) -> [f64; 3] {
+        let cl = q.l.z.max(0.0);
+        let (s, x5) = specular_shape(q.l, q.v, self.alpha);
+        [0, 1, 2].map(|c| self.ambient[c] + cl * self.diffuse[c] + s * (self.specular[c] + x5 * self.fresnel[c]))
+    }
+
+    /// Fit the lobe to values on a pattern: $\alpha$ by search, the rest by
+    /// weighted non-negative least squares (weights $1/(S + \delta)^2$, so relative). Returns
+    /// the lobe and its relative misfit $\sqrt{\sum w (B - S)^2 / \sum w S^2}$; `None` when
+    /// the values are all zero.
+    pub fn fit(pattern: &Pattern, values: &[[f64; 3]]) -> Option<(Base, f64)> {
+        let mut max = [0.0f64; 3];
+        for v in values {
+            for c in 0..3 {
+                max[c] = max[c].max(v[c]);
+            }
+        }
+        if max.iter().all(|&m| m <= 0.0) || values.len() != pattern.len() {
+            return None;
+        }
+        let delta = max.map(|m| (WEIGHT_SOFTENING * m).max(1e-12));
+        let stride = pattern.len().div_ceil(SEARCH_SAMPLES).max(1);
+        let search: Vec<usize> = (0..pattern.len()).step_by(stride).collect();
+        let mut best: Option<(f64, f64)> = None; // (residual, alpha)
+        for i in 0..ALPHAS {
+            let alpha = ALPHA_MIN * (ALPHA_MAX / ALPHA_MIN).powf(i as f64 / (ALPHAS - 1) as f64);
+            let (res, ..) = linear_fit(pattern, values, &search, delta, alpha);
+            if best.is_none_or(|b| res < b.0) {
+                best = Some((res, alpha));
+            }
+        }
+        let (_, alpha) = best?;
+        // Refine $\alpha$ between the grid's neighbours by golden-section search on
+        // $\log\alpha$: the grid's step (about 19%) alone leaves a GGX truth a misfit of a few
+        // percent, which would hide it among the models of other families.
+        let step = (ALPHA_MAX / ALPHA_MIN).ln() / (ALPHAS - 1) as f64;
+        let at = |x: f64| linear_fit(pattern, values, &search, delta, x.exp()).0;
+        let (mut lo, mut hi) = ((alpha.ln() - step).max(ALPHA_MIN.ln()), (alpha.ln() + step).min(ALPHA_MAX.ln()));
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        let (mut f1, mut f2) = (at(x1), at(x2));
+        for _ in 0..REFINE_STEPS {
+            if f1 < f2 {
+                hi = x2;
+                (x2, f2) = (x1, f1);
+                x1 = hi - g * (hi - lo);
+                f1 = at(x1);
+            } else {
+                lo = x1;
+                (x1, f1) = (x2, f2);
+                x2 = lo + g * (hi - lo);
+                f2 = at(x2);
+            }
+        }
+        let alpha = if at(alpha.ln()) <= f1.min(f2) { alpha } else if f1 < f2 { x1.exp() } else { x2.exp() };
+        let all: Vec<usize> = (0..pattern.len()).collect();
+        let (res, k, penalty) = linear_fit(pattern, values, &all, delta, alpha);
+        let res = (res - penalty).max(0.0);
+        // The misfit relative to the weighted values: $\sqrt{\sum w (B - S)^2 / \sum w S^2}$
+        // (the data's part of the objective; the ridge's penalty is no misfit).
+        let scale: f64 = values.iter().map(|v| (0..3).map(|c| (v[c] / (v[c] + delta[c])).powi(2)).sum::<f64>()).sum();
+        let misfit = (res / scale.max(f64::MIN_POSITIVE)).sqrt();
+        let ambient = [0, 1, 2].map(|c| k[c][0].max(AMBIENT_FLOOR * max[c]).max(1e-12));
+        Some((Base { ambient, diffuse: k.map(|x| x[1]), specular: k.map(|x| x[2]), fresnel: k.map(|x| x[3]), alpha }, misfit))
+    }
+
+    /// Checks a stored lobe: colours finite and non-negative, $0 < \alpha \le 1$ (the range
+    /// the fit searches; at 0 $D$ is a delta function).
+    pub fn validate(&self) -> std::result::Result<(), String> {
+        let colours = self.ambient.iter().chain(&self.diffuse).chain(&self.specular).chain(&self.fresnel);
+        if colours.clone().any(|x| !x.is_finite() || *x < 0.0) {
+            return Err("ambient, diffuse and specular must be finite and non-negative".into());
+        }
+        if !(self.alpha > 0.0 && self.alpha <= 1.0) {
+            return Err(format!("alpha {} must be in (0, 1]", self.alpha));
+        }
+        Ok(())
+    }
+}
+
+/// Weighted non-negative least squares of $(a, k_d, k_s, k_f)$ per channel for a fixed
+/// $\alpha$ over the samples `idx` ($k_f$ ridged, [`FRESNEL_RIDGE`]): the summed weighted
+/// residual with the ridge's penalty (what the fit minimizes), the coefficients, and the
+/// penalty alone (so a misfit can leave it out).
+fn linear_fit(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64; 3], alpha: f64) -> (f64, [[f64; 4]; 3], f64) {
+    // Normal equations per channel: G = Σ w x xᵀ, b = Σ w x s, c = Σ w s².
+    let mut g = [[[0.0f64; N]; N]; 3];
+    let mut b = [[0.0f64; N]; 3];
+    let mut ss = [0.0f64; 3];
+    for &i in idx {
+        let q = &pattern.queries[i];
+        let (spec, x5) = specular_shape(q.l, q.v, alpha);
+        let x = [1.0, q.l.z.max(0.0), spec, spec * x5];
+        for c in 0..3 {
+            let s = values[i][c];
+            let w = 1.0 / (s + delta[c]).powi(2);
+            for r in 0..N {
+                for k in 0..N {
+                    g[c][r][k] += w * x[r] * x[k];
+                }
+                b[c][r] += w * x[r] * s;
+            }
+            ss[c] += w * s * s;
+        }
+    }
+    let (mut total, mut penalty) = (0.0, 0.0);
+    let mut coef = [[0.0; N]; 3];
+    for c in 0..3 {
+        // The ridge is part of the objective (so of the residual that picks alpha too).
+        let ridge = FRESNEL_RIDGE * g[c][2][2];
+        g[c][3][3] += ridge;
+        let (res, k) = nnls(&g[c], &b[c], ss[c]);
+        total += res;
+        penalty += ridge * k[3] * k[3];
+        coef[c] = k;
+    }
+    (total, coef, penalty)
+}
+
+/// Unknowns of the linear fit: ambient, diffuse, specular, Fresnel.
+const N: usize = 4;
+
+/// Non-negative least squares with [`N`] unknowns from its normal equations: every subset
+/// of free unknowns (fifteen) is solved and the best feasible one kept. The residual is
+/// $c - 2k^\top b + k^\top G k$.
+fn nnls(g: &[[f64; N]; N], b: &[f64; N], c: f64) -> (f64, [f64; N]) {
+    let residual = |k: &[f64; N]| {
+        let mut r = c;
+        for i in 0..N {
+            r -= 2.0 * k[i] * b[i];
+            for j in 0..N {
+                r += k[i] * g[i][j] * k[j];
+            }
+        }
+        r.max(0.0)
+    };
+    let mut best = ([0.0; N], residual(&[0.0; N]));
+    for mask in 1u8..(1 << N) {
+        let free: Vec<usize> = (0..N).filter(|&i| mask & (1 << i) != 0).collect();
+        let n = free.len();
+        let mut a = [[0.0f64; N + 1]; N];
+        for (r, &i) in free.iter().enumerate() {
+            for (k, &j) in free.iter().enumerate() {
+                a[r][k] = g[i][j];
+            }
+            // A tiny ridge keeps a column that is zero on these samples (no lit sample, no
+            // highlight) from making the system singular.
+            a[r][r] += 1e-12 * (g[i][i] + 1e-300);
+            a[r][n] = b[i];
+        }
+        let Some(x) = solve_small(&mut a, n) else { continue };
+        if x.iter().take(n).any(|&v| v < 0.0 || !v.is_finite()) {
+            continue;
+        }
+        let mut k = [0.0; N];
+        for (r, &i) in free.iter().enumerate() {
+            k[i] = x[r];
+        }
+        let res = residual(&k);
+        if res < best.1 {
+            best = (k, res);
+        }
+    }
+    (best.1, best.0)
+}
+
+/// Gaussian elimination with partial pivoting on an n × (n+1) augmented system (n ≤ [`N`]),
+/// the right-hand side in column n.
+#[allow(clippy::needless_range_loop)] // index loops over a small array read best as the math
+fn solve_small(a: &mut [[f64; N + 1]; N], n: usize) -> Option<[f64; N]> {
+    for col in 0..n {
+        let p = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
+        if a[p][col].abs() < 1e-300 {
+            return None;
+        }
+        a.swap(col, p);
+        for r in col + 1..n {
+            let f = a[r][col] / a[col][col];
+            for k in col..=n {
+                a[r][k] -= f * a[col][k];
+            }
+        }
+    }
+    let mut x = [0.0; N];
+    for r in (0..n).rev() {
+        let mut s = a[r][n];
+        for k in r + 1..n {
+            s -= a[r][k] * x[k];
+        }
+        x[r] = s / a[r][r];
+    }
+    Some(x)
+}
+
+/// A based fit: the lobe and the product fitted to $S / B$. [`Fit::errors`] are on $S$.
+#[derive(Clone, Debug)]
+pub struct BasedFit {
+    pub base: Option<Base>,
+    pub fit: Fit,
+}
+
+impl BasedFit {
+    /// $B(l, v)\, m^{-1}(\prod p_j)$ at a query (the product alone without a base).
+    pub fn eval(&self, settings: &super::Settings, q: &Query) -> [f64; 3] {
+        let x = self.fit.eval(settings, q);
+        match &self.base {
+            Some(b) => {
+                let s = b.shading(q);
+                [0, 1, 2].map(|c| s[c] * x[c])
+            }
+            None => x,
+        }
+    }
+}
+
+/// Fit a base of `choice` to `values` on `pattern`, then the product of `prepared` (which
+/// must have been prepared on `pattern`) to $S / B$ under `mapping`. Under
+/// [`Mapping::Auto`] each mapping is tried and the one with the lowest RMS on $S$ (not on
+/// the ratio) kept, `inverted` only for a clear gain, as [`Prepared::solve`] does.
+pub fn solve_based(prepared: &Prepared, pattern: &Pattern, values: &[[f64; 3]], mapping: Mapping, choice: BaseChoice) -> Result<BasedFit> {
+    let base = match choice {
+        BaseChoice::None => None,
+        BaseChoice::Ggx => Base::fit(pattern, values).map(|b| b.0),
+        BaseChoice::Auto => Base::fit(pattern, values).filter(|b| b.1 <= AUTO_MISFIT).map(|b| b.0),
+    };
+    match base {
+        Some(base) => solve_on_base(prepared, pattern, values, mapping, &base),
+        None => Ok(BasedFit { base: None, fit: prepared.solve(values, mapping)? }),
+    }
+}
+
+/// The product of `prepared` fitted to $S / B$ for a given lobe (the part of
+/// [`solve_based`] after the lobe's fit): $B$ once per sample, then the prepared solve of
+/// the ratio under each mapping, kept by its error on $S$.
+pub fn solve_on_base(prepared: &Prepared, pattern: &Pattern, values: &[[f64; 3]], mapping: Mapping, base: &Base) -> Result<BasedFit> {
+    let bs: Vec<[f64; 3]> = pattern.queries.iter().map(|q| base.shading(q)).collect();
+    // B >= the ambient floor > 0 (Base::fit), so the ratio is finite.
+    let ratio: Vec<[f64; 3]> = values.iter().zip(&bs).map(|(v, b)| [0, 1, 2].map(|c| v[c] / b[c])).collect();
+    let on_s = |fit: &Fit| -> Errors {
+        let p = prepared.predict(&fit.tables, &fit.map);
+        let p: Vec<[f64; 3]> = p.iter().zip(&bs).map(|(p, b)| [0, 1, 2].map(|c| p[c] * b[c])).collect();
+        errors(&p, values)
+    };
+    let singles = match mapping {
+        Mapping::Auto => vec![Mapping::Identity, Mapping::Offset(None), Mapping::Inverted(None)],
+        m => vec![m],
+    };
+    let score = |m: &super::LogMap, e: &Errors| if matches!(m, super::LogMap::Inverted { .. }) { e.rms / (1.0 - INVERTED_MARGIN) } else { e.rms };
+    let mut best: Option<Fit> = None;
+    let mut tried = Vec::new();
+    for m in singles {
+        let mut fit = prepared.solve(&ratio, m)?;
+        fit.errors = on_s(&fit);
+        tried.push((fit.map, fit.errors));
+        if best.as_ref().is_none_or(|b| score(&fit.map, &fit.errors) < score(&b.map, &b.errors)) {
+            best = Some(fit);
+        }
+    }
+    let mut fit = best.ok_or_else(|| Error::Numeric("no mapping gave a finite fit".into()))?;
+    fit.tried = tried;
+    Ok(BasedFit { base: Some(*base), fit })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::brdf::{Analytic, Reflectance, SphereView};
+
+    /// A GGX sphere is recovered: the fitted lobe's $\alpha$ is the truth's within the
+    /// search grid's step, and $B$ alone matches $S$ closely.
+    #[test]
+    fn fits_a_ggx_sphere() {
+        let truth = Analytic::ggx_alpha([0.40, 0.25, 0.12], [0.5, 0.5, 0.5], 0.2);
+        let views: Vec<_> = [DVec3::new(0.3, 0.4, 1.0), DVec3::new(-0.6, 0.2, 0.8)].iter().map(|&l| SphereView::new(l, 64)).collect();
+        let pattern = Pattern::concat(&views.iter().map(SphereView::pattern).collect::<Vec<_>>());
+        let values = pattern.shade(|q| truth.shading(q));
+        let (base, misfit) = Base::fit(&pattern, &values).expect("a fit");
+        assert!(misfit < 1e-3, "misfit {misfit}");
+        let step = (ALPHA_MAX / ALPHA_MIN).powf(1.0 / (ALPHAS - 1) as f64);
+        assert!(base.alpha > 0.2 / step && base.alpha < 0.2 * step, "alpha {} for truth 0.2", base.alpha);
+        let fitted = pattern.shade(|q| base.shading(q));
+        let e = errors(&fitted, &values).rms_relative;
+        assert!(e < 0.1, "relative RMS of the base alone {e}");
+    }
+
+    /// nnls on a problem with a known non-negative solution and one with a clamped unknown.
+    #[test]
+    fn nnls_solves_and_clamps() {
+        // G = I, b = (1, 2, 3, 4): k = b, residual c - |b|² = 0.
+        let mut g = [[0.0; N]; N];
+        for (i, row) in g.iter_mut().enumerate() {
+            row[i] = 1.0;
+        }
+        let (r, k) = nnls(&g, &[1.0, 2.0, 3.0, 4.0], 30.0);
+        assert!(k.iter().zip([1.0, 2.0, 3.0, 4.0]).all(|(a, b)| (a - b).abs() < 1e-9) && r < 1e-9, "{k:?} {r}");
+        // b = (1, -2, 3, 4): the second unknown is clamped at zero.
+        let (_, k) = nnls(&g, &[1.0, -2.0, 3.0, 4.0], 30.0);
+        assert!(k[1] == 0.0 && (k[0] - 1.0).abs() < 1e-9 && (k[2] - 3.0).abs() < 1e-9 && (k[3] - 4.0).abs() < 1e-9, "{k:?}");
+    }
+}
