@@ -23,6 +23,7 @@ use std::time::Instant;
 use crate::commit::StagedDir;
 use crate::error::{Error, Result};
 use crate::factor::cache::{Cache, Outcome};
+use crate::factor::base::BaseChoice;
 use crate::factor::{defaults, Errors, Fit, Mapping, Prepared, Settings};
 use crate::images::Rgb;
 use crate::material::map::{self, MapOptions, MapReport};
@@ -41,11 +42,15 @@ pub struct Options {
     pub mapping: Mapping,
     /// Terms, coefficient resolution and method of a material map or hybrid.
     pub map: MapOptions,
+    /// The analytic base under a uniform product ([`crate::factor::base`], issue 15).
+    /// `None` by default (the demo, lit spheres and live painting fit the plain product);
+    /// `brdfpaint fit` passes its `--base`, `auto` unless told.
+    pub base: BaseChoice,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Options { kind: Kind::Uniform, settings: Settings::default(), mapping: Mapping::Auto, map: MapOptions::default() }
+        Options { kind: Kind::Uniform, settings: Settings::default(), mapping: Mapping::Auto, map: MapOptions::default(), base: BaseChoice::None }
     }
 }
 
@@ -69,7 +74,7 @@ impl Options {
         if matches!(kind, Kind::MaterialMap | Kind::Hybrid) {
             map.coef_res = uv_res.unwrap_or(map.coef_res);
         }
-        Ok(Options { kind, settings, mapping: Mapping::Auto, map })
+        Ok(Options { kind, settings, mapping: Mapping::Auto, map, base: BaseChoice::None })
     }
 }
 
@@ -323,7 +328,15 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
     }
     let solved = solve(&samples, &opts.settings, opts.mapping, cache)?;
     let provenance = provenance(sources(views), Some(solved.fit.errors), samples.len(), solved.prepare_s, solved.solve_s);
-    let uniform = Material::from_fit(&opts.settings, &solved.fit, provenance.clone())?;
+    let mut uniform = Material::from_fit(&opts.settings, &solved.fit, provenance.clone())?;
+    if opts.kind == Kind::Uniform {
+        // The base re-solves on the same prepared system: one more solve, and the lobe's
+        // own fit (BENCHMARKS.md: about 6 ms for 7.6k samples).
+        let (p, s) = (&solved.prepared, &samples);
+        if let Some(based) = Material::fit_based(p, &s.pattern, &s.values, &opts.settings, opts.mapping, opts.base, provenance.clone())? {
+            uniform = based;
+        }
+    }
     let (material, map) = match opts.kind {
         Kind::Uniform | Kind::FourFactor => (uniform, None),
         Kind::MaterialMap | Kind::Hybrid => {

@@ -332,17 +332,9 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
     for note in &notes {
         println!("note: {note}");
     }
+    let opts = &Options { base: args.base, ..opts.clone() };
     let mut fitted = pipeline::fit(&views, opts, Cache::user().as_ref())?;
-    if opts.kind == Kind::Uniform {
-        // The base re-solves on the uniform fit's prepared system: one more solve, and the
-        // lobe's own fit (BENCHMARKS.md: about 6 ms for 7.6k samples).
-        let (s, provenance) = (&fitted.samples, fitted.material.provenance.clone());
-        let based = Material::fit_based(&fitted.solved.prepared, &s.pattern, &s.values, &opts.settings, opts.mapping, args.base, provenance)?;
-        if let Some(m) = based {
-            fitted.material = m;
-        }
-        print_base(&fitted.material);
-    }
+    print_base(&fitted.material);
     // How the paintings were read goes into material.json too, before the fit's own notes.
     fitted.material.provenance.notes.splice(0..0, notes.iter().cloned());
     if let Some((report, _)) = &fitted.map {
