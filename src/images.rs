@@ -185,6 +185,47 @@ pub fn neighbours4(k: usize, width: usize, len: usize) -> impl Iterator<Item = u
         .flatten()
 }
 
+/// The 8-neighbours of pixel `k` (index `j * width + i`) in a grid of `len` pixels,
+/// `width` to a row: those that exist.
+pub fn neighbours8(k: usize, width: usize, len: usize) -> impl Iterator<Item = usize> {
+    let (i, j, rows) = ((k % width) as i64, (k / width) as i64, (len / width) as i64);
+    [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)]
+        .into_iter()
+        .map(move |(di, dj)| (i + di, j + dj))
+        .filter(move |&(x, y)| x >= 0 && y >= 0 && x < width as i64 && y < rows)
+        .map(move |(x, y)| y as usize * width + x as usize)
+}
+
+/// Clears the 8-connected components of `mask` (a grid `width` to a row) smaller than
+/// `least` pixels.
+pub fn drop_small_components(mask: &mut [bool], width: usize, least: usize) {
+    let len = mask.len();
+    let mut seen = vec![false; len];
+    let (mut stack, mut component) = (Vec::new(), Vec::new());
+    for start in 0..len {
+        if !mask[start] || seen[start] {
+            continue;
+        }
+        seen[start] = true;
+        stack.push(start);
+        component.clear();
+        while let Some(k) = stack.pop() {
+            component.push(k);
+            for n in neighbours8(k, width, len) {
+                if mask[n] && !seen[n] {
+                    seen[n] = true;
+                    stack.push(n);
+                }
+            }
+        }
+        if component.len() < least {
+            for &k in &component {
+                mask[k] = false;
+            }
+        }
+    }
+}
+
 /// EXR values this little below zero are filtering round-off (Blender's bundled MatCaps
 /// have them, down to -0.0017), read as 0; anything more negative is an error.
 pub const NEGATIVE_NOISE: f32 = 0.01;
@@ -225,6 +266,18 @@ pub fn encode_srgb8(x: f32) -> u8 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn eight_neighbours_stay_on_the_grid_and_small_components_go() {
+        // A 4x3 grid: a corner has 3 neighbours, an edge pixel 5, an inner one 8.
+        assert_eq!(neighbours8(0, 4, 12).collect::<Vec<_>>(), vec![1, 4, 5]);
+        assert_eq!(neighbours8(1, 4, 12).count(), 5);
+        assert_eq!(neighbours8(5, 4, 12).collect::<Vec<_>>(), vec![0, 1, 2, 4, 6, 8, 9, 10]);
+        // A diagonal pair (0, 5) is one component of 2; pixel 3 alone is one of 1.
+        let mut mask = vec![true, false, false, true, false, true, false, false, false, false, false, false];
+        drop_small_components(&mut mask, 4, 2);
+        assert_eq!(mask, vec![true, false, false, false, false, true, false, false, false, false, false, false]);
+    }
 
     #[test]
     fn srgb_round_trips_every_8_bit_code() {

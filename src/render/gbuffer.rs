@@ -59,37 +59,12 @@ const SHORT_LINE: f32 = 0.025;
 
 /// Clears the interior line pixels (`line` and not `outer`) of 8-connected components
 /// smaller than `min_len` pixels.
-fn drop_short_interior(line: &mut [bool], outer: &[bool], w: usize, h: usize, min_len: usize) {
-    let interior = |k: usize, line: &[bool]| line[k] && !outer[k];
-    let mut seen = vec![false; w * h];
-    let mut stack = Vec::new();
-    let mut component = Vec::new();
-    for start in 0..w * h {
-        if seen[start] || !interior(start, line) {
-            continue;
-        }
-        seen[start] = true;
-        stack.push(start);
-        component.clear();
-        while let Some(k) = stack.pop() {
-            component.push(k);
-            let (i, j) = ((k % w) as i64, (k / w) as i64);
-            for (di, dj) in [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
-                let (x, y) = (i + di, j + dj);
-                if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
-                    continue;
-                }
-                let n = y as usize * w + x as usize;
-                if !seen[n] && interior(n, line) {
-                    seen[n] = true;
-                    stack.push(n);
-                }
-            }
-        }
-        if component.len() < min_len {
-            for &k in &component {
-                line[k] = false;
-            }
+fn drop_short_interior(line: &mut [bool], outer: &[bool], w: usize, min_len: usize) {
+    let mut interior: Vec<bool> = line.iter().zip(outer).map(|(&l, &o)| l && !o).collect();
+    crate::images::drop_small_components(&mut interior, w, min_len);
+    for ((l, &o), &keep) in line.iter_mut().zip(outer).zip(&interior) {
+        if !o {
+            *l &= keep;
         }
     }
 }
@@ -198,7 +173,7 @@ impl LineTracer {
             self.trace_row(self.next_row - 1, &last, None);
         }
         let (w, h) = (self.width, self.height);
-        drop_short_interior(&mut self.line, &self.outer, w, h, (w.max(h) as f32 * SHORT_LINE).round() as usize);
+        drop_short_interior(&mut self.line, &self.outer, w, (w.max(h) as f32 * SHORT_LINE).round() as usize);
         let grow = self.style.width.saturating_sub(2) / 2;
         if grow > 0 {
             self.line = dilate(&self.line, w, h, grow);

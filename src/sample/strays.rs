@@ -25,6 +25,7 @@
 
 use super::{proxy, PaintedView, Samples};
 use crate::error::Result;
+use crate::images::{drop_small_components, neighbours8};
 use crate::factor::{Mapping, Settings};
 
 /// Robust standard deviations a stray's miss exceeds.
@@ -114,8 +115,10 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings) -> Result<Option<
             }
             offset += count;
             let mut stray: Vec<bool> = at.iter().map(|&m| m > threshold).collect();
-            keep_strokes(&mut stray, w, h, (MIN_STROKE * count as f64).max(MIN_STROKE_PIXELS as f64) as usize);
-            grow(&mut stray, &at, w, h, RIM * threshold);
+            // A stroke is a blob; a render's misfit, a few pixels along a highlight's or a
+            // crescent's edge.
+            drop_small_components(&mut stray, w, (MIN_STROKE * count as f64).max(MIN_STROKE_PIXELS as f64) as usize);
+            grow(&mut stray, &at, w, RIM * threshold);
             strays[v] = (0..w * h).filter(|&k| stray[k]).collect();
         }
         let total: usize = strays.iter().map(Vec::len).sum();
@@ -143,56 +146,14 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings) -> Result<Option<
     Ok(Some(Strays { per_view: found }))
 }
 
-/// Keeps the 8-connected parts of `stray` (a `w`×`h` mask) of at least `least` pixels: a
-/// stroke is a blob, a render's misfit a few pixels along a highlight's or a crescent's edge.
-fn keep_strokes(stray: &mut [bool], w: usize, h: usize, least: usize) {
-    let mut seen = vec![false; w * h];
-    for start in 0..w * h {
-        if !stray[start] || seen[start] {
-            continue;
-        }
-        let (mut part, mut stack) = (vec![start], vec![start]);
-        seen[start] = true;
-        while let Some(k) = stack.pop() {
-            let (i, j) = ((k % w) as i64, (k / w) as i64);
-            for (di, dj) in NEIGHBOURS {
-                let (x, y) = (i + di, j + dj);
-                if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
-                    continue;
-                }
-                let m = y as usize * w + x as usize;
-                if stray[m] && !seen[m] {
-                    seen[m] = true;
-                    part.push(m);
-                    stack.push(m);
-                }
-            }
-        }
-        if part.len() < least {
-            for k in part {
-                stray[k] = false;
-            }
-        }
-    }
-}
-
-/// The 8-neighbourhood.
-const NEIGHBOURS: [(i64, i64); 8] = [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (1, 1), (-1, 1), (1, -1)];
-
-/// Grows `stray` (a `w`×`h` mask) [`GROWTH`] pixels into its 8-neighbours whose miss `at`
+/// Grows `stray` (a mask `w` to a row) [`GROWTH`] pixels into its 8-neighbours whose miss `at`
 /// exceeds `rim`: a stroke's soft edge, where it blends with the shading under it.
-fn grow(stray: &mut [bool], at: &[f64], w: usize, h: usize, rim: f64) {
-    let mut frontier: Vec<usize> = (0..w * h).filter(|&k| stray[k]).collect();
+fn grow(stray: &mut [bool], at: &[f64], w: usize, rim: f64) {
+    let mut frontier: Vec<usize> = (0..stray.len()).filter(|&k| stray[k]).collect();
     for _ in 0..GROWTH {
         let mut next = Vec::new();
         for k in frontier.drain(..) {
-            let (i, j) = ((k % w) as i64, (k / w) as i64);
-            for (di, dj) in NEIGHBOURS {
-                let (x, y) = (i + di, j + dj);
-                if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
-                    continue;
-                }
-                let m = y as usize * w + x as usize;
+            for m in neighbours8(k, w, stray.len()) {
                 if !stray[m] && at[m] > rim {
                     stray[m] = true;
                     next.push(m);

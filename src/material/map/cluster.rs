@@ -316,17 +316,11 @@ fn neighbours(grids: &[Grid], n: usize) -> Vec<Vec<u32>> {
         if g.sample.len() != g.width * g.height {
             continue;
         }
-        for y in 0..g.height {
-            for x in 0..g.width {
-                let Some(s) = g.sample[y * g.width + x].filter(|&s| (s as usize) < n) else { continue };
-                for (dx, dy) in [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
-                    let (nx, ny) = (x as i64 + dx, y as i64 + dy);
-                    if nx < 0 || ny < 0 || nx >= g.width as i64 || ny >= g.height as i64 {
-                        continue;
-                    }
-                    if let Some(t) = g.sample[ny as usize * g.width + nx as usize].filter(|&t| (t as usize) < n) {
-                        out[s as usize].push(t);
-                    }
+        for k in 0..g.sample.len() {
+            let Some(s) = g.sample[k].filter(|&s| (s as usize) < n) else { continue };
+            for m in crate::images::neighbours8(k, g.width, g.sample.len()) {
+                if let Some(t) = g.sample[m].filter(|&t| (t as usize) < n) {
+                    out[s as usize].push(t);
                 }
             }
         }
