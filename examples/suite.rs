@@ -4,11 +4,13 @@
 //!
 //! `cargo run --release --example suite [-- FACTORS]` where FACTORS names the settings:
 //! `default` (the thesis's p(l) q(h) r(v)), or one of the candidates listed by `--list`.
-//! `--base ggx` fits an analytic GGX lobe first and the product to S / B
+//! `--theta-d auto|on|off` (default off) adds a factor of θ_d as `brdfpaint fit --theta-d`
+//! does. `--base ggx` fits an analytic GGX lobe first and the product to S / B
 //! (`factor::base`); `--base none` (the default) is the thesis's product alone.
 
 use brdfpaint::brdf::Analytic;
 use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::factor::{difference_spread, DifferenceChoice, Pattern};
 use brdfpaint::study::suite::{held_out, measure_based, paintings, peaks_based, sharp_model, summary, wide_paintings};
 
 fn main() -> brdfpaint::Result<()> {
@@ -17,6 +19,12 @@ fn main() -> brdfpaint::Result<()> {
     if let Some(i) = args.iter().position(|a| a == "--base") {
         let kind = args.get(i + 1).ok_or_else(|| brdfpaint::Error::input("--base needs a value (none or ggx)"))?;
         base = kind.parse()?;
+        args.drain(i..i + 2);
+    }
+    let mut difference = DifferenceChoice::Off;
+    if let Some(i) = args.iter().position(|a| a == "--theta-d") {
+        let when = args.get(i + 1).ok_or_else(|| brdfpaint::Error::input("--theta-d needs a value (auto, on or off)"))?;
+        difference = when.parse()?;
         args.drain(i..i + 2);
     }
     let name = args.first().cloned().unwrap_or_else(|| "default".into());
@@ -31,9 +39,16 @@ fn main() -> brdfpaint::Result<()> {
         return Err(brdfpaint::Error::input(format!("unknown settings '{name}' (see --list)")));
     };
     let models = Analytic::wide_suite();
-    let one = measure_based(&models, settings, &paintings(1), base)?;
-    let three = measure_based(&models, settings, &paintings(3), base)?;
-    let wide = measure_based(&models, settings, &wide_paintings(), base)?;
+    // `--theta-d auto` decides per set of paintings, as `brdfpaint fit` does.
+    let measure = |painted: &[brdfpaint::brdf::SphereView]| {
+        let pattern = Pattern::concat(&painted.iter().map(|v| v.pattern()).collect::<Vec<_>>());
+        let (settings, added) = difference.apply(settings, &pattern);
+        println!("{} paintings: θ_d spans {:.0}°, factor of θ_d {}", painted.len(), difference_spread(&pattern), if added { "added" } else { "not added" });
+        measure_based(&models, &settings, painted, base)
+    };
+    let one = measure(&paintings(1))?;
+    let three = measure(&paintings(3))?;
+    let wide = measure(&wide_paintings())?;
     let views: Vec<&str> = held_out(2).iter().map(|(n, _)| *n).collect();
     println!("settings '{name}', base {base}: held-out relative RMS (pooled over {} views), train, and per view from 3 paintings", views.len());
     print!("{:<22} {:>7} {:>7} {:>7} {:>7} {:>7}", "model", "1 view", "3 views", "3 wide", "train1", "train3");

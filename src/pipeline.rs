@@ -24,7 +24,7 @@ use crate::commit::StagedDir;
 use crate::error::{Error, Result};
 use crate::factor::cache::{Cache, Outcome};
 use crate::factor::base::BaseChoice;
-use crate::factor::{defaults, Errors, Fit, Mapping, Prepared, Settings};
+use crate::factor::{defaults, difference_spread, DifferenceChoice, Errors, Fit, Mapping, Prepared, Settings};
 use crate::images::Rgb;
 use crate::material::map::{self, MapOptions, MapReport};
 use crate::material::{Kind, Material, Provenance};
@@ -46,11 +46,14 @@ pub struct Options {
     /// `None` by default (the demo, lit spheres and live painting fit the plain product);
     /// `brdfpaint fit` passes its `--base`, `auto` unless told.
     pub base: BaseChoice,
+    /// Whether the product gets a factor of $\theta_d$ ([`DifferenceChoice`], issue 15):
+    /// `auto` adds it to a uniform fit whose paintings show side or back light.
+    pub difference: DifferenceChoice,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Options { kind: Kind::Uniform, settings: Settings::default(), mapping: Mapping::Auto, map: MapOptions::default(), base: BaseChoice::None }
+        Options { kind: Kind::Uniform, settings: Settings::default(), mapping: Mapping::Auto, map: MapOptions::default(), base: BaseChoice::None, difference: DifferenceChoice::Auto }
     }
 }
 
@@ -74,7 +77,7 @@ impl Options {
         if matches!(kind, Kind::MaterialMap | Kind::Hybrid) {
             map.coef_res = uv_res.unwrap_or(map.coef_res);
         }
-        Ok(Options { kind, settings, mapping: Mapping::Auto, map, base: BaseChoice::None })
+        Ok(Options { kind, settings, mapping: Mapping::Auto, map, base: BaseChoice::None, difference: DifferenceChoice::Auto })
     }
 }
 
@@ -326,14 +329,21 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
             opts.kind.name()
         )));
     }
-    let solved = solve(&samples, &opts.settings, opts.mapping, cache)?;
+    // Paintings under side or back light show the angle between light and half vector, which
+    // carries Fresnel and grazing terms: a uniform fit of them gets a factor of it.
+    let choice = match (opts.difference, opts.kind) {
+        (DifferenceChoice::Auto, Kind::Uniform) | (DifferenceChoice::On, _) => opts.difference,
+        _ => DifferenceChoice::Off,
+    };
+    let (settings, added) = choice.apply(&opts.settings, &samples.pattern);
+    let solved = solve(&samples, &settings, opts.mapping, cache)?;
     let provenance = provenance(sources(views), Some(solved.fit.errors), samples.len(), solved.prepare_s, solved.solve_s);
-    let mut uniform = Material::from_fit(&opts.settings, &solved.fit, provenance.clone())?;
+    let mut uniform = Material::from_fit(&settings, &solved.fit, provenance.clone())?;
     if opts.kind == Kind::Uniform {
         // The base re-solves on the same prepared system: one more solve, and the lobe's
         // own fit (BENCHMARKS.md: about 6 ms for 7.6k samples).
         let (p, s) = (&solved.prepared, &samples);
-        if let Some(based) = Material::fit_based(p, &s.pattern, &s.values, &opts.settings, opts.mapping, opts.base, provenance.clone())? {
+        if let Some(based) = Material::fit_based(p, &s.pattern, &s.values, &settings, opts.mapping, opts.base, provenance.clone())? {
             uniform = based;
         }
     }
@@ -351,6 +361,12 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
     };
     let mut fitted = Fitted { material, samples, solved, map };
     fitted.material.provenance.notes = diagnose(views, &fitted, opts.kind);
+    if added && opts.difference == DifferenceChoice::Auto {
+        fitted.material.provenance.notes.push(format!(
+            "the paintings show side or back light: the angle between light and half vector spans {:.0}°, so a factor s(θ_d) was added for Fresnel and grazing terms (--theta-d off leaves it out)",
+            difference_spread(&fitted.samples.pattern)
+        ));
+    }
     Ok(fitted)
 }
 

@@ -139,7 +139,9 @@ fn several_views_concatenate() {
 
 /// `--theta-d` adds a factor of θ_d after p(l) q(h) r(v) (whose q(h) is warped), and the
 /// material stores it: from a front-lit and a side-lit painting of GGX, whose Fresnel term
-/// depends on θ_d, the fit with it is at least as close to the paintings as without.
+/// depends on θ_d, the fit with it is at least as close to the paintings as without. Unasked
+/// (`auto`), the two paintings' θ_d (about 10° and 50°) get it, with a note saying why, and
+/// the front-lit painting alone (one θ_d) does not.
 #[test]
 fn theta_d_adds_a_difference_factor() {
     let dir = tempfile::tempdir().unwrap();
@@ -157,9 +159,19 @@ fn theta_d_adds_a_difference_factor() {
         Material::load(out).unwrap()
     };
     let with = fit(&dir.path().join("with"), &["--theta-d"]);
-    let without = fit(&dir.path().join("without"), &[]);
-    let inputs: Vec<&str> = with.terms[0].factors.iter().map(|f| f.spec.input.name()).collect();
-    assert_eq!(inputs, ["light", "half", "view", "difference"]);
+    let without = fit(&dir.path().join("without"), &["--theta-d", "off"]);
+    let inputs = |m: &Material| m.terms[0].factors.iter().map(|f| f.spec.input.name().to_string()).collect::<Vec<_>>();
+    assert_eq!(inputs(&with), ["light", "half", "view", "difference"]);
+    assert_eq!(inputs(&without), ["light", "half", "view"]);
+    let auto = fit(&dir.path().join("auto"), &[]);
+    assert_eq!(inputs(&auto), ["light", "half", "view", "difference"]);
+    assert!(auto.provenance.notes.iter().any(|n| n.contains("s(θ_d) was added")), "{:?}", auto.provenance.notes);
+    let out = dir.path().join("front-only");
+    let r = brdfpaint(&dir.path().join("cache"), &["fit", "--scene", s(&s1), "--image", s(&p1), "--out", s(&out)]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let front = Material::load(&out).unwrap();
+    assert_eq!(inputs(&front), ["light", "half", "view"]);
+    assert!(!front.provenance.notes.iter().any(|n| n.contains("θ_d")), "{:?}", front.provenance.notes);
     assert_eq!(with.terms[0].factors[1].spec.warp, brdfpaint::factor::defaults::WARP_HALF);
     let (a, b) = (with.provenance.errors.unwrap().rms_relative, without.provenance.errors.unwrap().rms_relative);
     assert!(a <= b * 1.01, "with theta_d {a}, without {b}");

@@ -11,7 +11,7 @@ use brdfpaint::brdf::Merl;
 use brdfpaint::error::{Error, Result};
 use brdfpaint::factor::cache::{Cache, Outcome};
 use brdfpaint::factor::base::BaseChoice;
-use brdfpaint::factor::{defaults, prepare, FactorSpec, Fit, Mapping, Pattern, Settings};
+use brdfpaint::factor::{prepare, DifferenceChoice, Fit, Mapping, Pattern, Settings};
 use brdfpaint::litsphere;
 use brdfpaint::material::{map, Kind, Material};
 use brdfpaint::pipeline::{self, Options};
@@ -92,11 +92,12 @@ pub(super) struct FitArgs {
     /// Table resolution per axis (default: 128 for 1D, 32 for 2D).
     #[arg(long)]
     res: Option<usize>,
-    /// Add a factor of θ_d, the angle between the light and the half vector (half/difference
-    /// coordinates), for Fresnel and grazing terms: worth it for paintings under side or back
-    /// light, which show θ_d far from half the light-camera angle of a front-lit painting.
-    #[arg(long)]
-    theta_d: bool,
+    /// A factor of θ_d, the angle between the light and the half vector (half/difference
+    /// coordinates), for Fresnel and grazing terms: auto (added to a uniform fit when the
+    /// paintings' θ_d spans 20° or more, as under side or back light), on (`--theta-d`
+    /// alone; any kind, --merl too), off (the thesis's p(l) q(h) r(v)).
+    #[arg(long, value_name = "WHEN", default_value = "auto", default_missing_value = "on", num_args = 0..=1)]
+    theta_d: DifferenceChoice,
     /// Resolution of the uv factor (four-factor, hybrid; default 32), or of the coefficient
     /// textures (material-map; default 256).
     #[arg(long)]
@@ -170,12 +171,7 @@ fn options(args: &FitArgs) -> Result<Options> {
         return Err(Error::input("--map-fit applies to the material-map and hybrid kinds"));
     }
     let mut opts = Options::new(args.kind.kind(), args.factors.dim(), args.res, args.lambda, args.uv_res)?;
-    if args.theta_d {
-        let mut f = FactorSpec::difference(defaults::RES_DIFFERENCE);
-        f.smooth = args.lambda.unwrap_or(f.smooth);
-        opts.settings.factors.push(f);
-        opts.settings.validate()?;
-    }
+    opts.difference = args.theta_d;
     opts.mapping = args.mapping;
     opts.map.terms = args.terms.unwrap_or(opts.map.terms);
     opts.map.method = match args.map_fit {
@@ -191,7 +187,15 @@ fn options(args: &FitArgs) -> Result<Options> {
 pub(super) fn run(args: FitArgs) -> std::result::Result<(), Failure> {
     let opts = options(&args)?;
     match (&args.merl, &args.lit_sphere) {
-        (Some(merl), _) => Ok(run_merl(merl, &args, &opts.settings)?),
+        // Dense MERL-style sampling shows every θ_d; its factor is added only when asked for
+        // (not measured on the MERL fits yet).
+        (Some(merl), _) => {
+            let settings = match args.theta_d {
+                DifferenceChoice::On => opts.settings.and_difference(),
+                DifferenceChoice::Auto | DifferenceChoice::Off => opts.settings.clone(),
+            };
+            Ok(run_merl(merl, &args, &settings)?)
+        }
         (None, Some(image)) => Ok(run_lit_sphere(image, &args, &opts)?),
         (None, None) => {
             if args.scene.len() != args.image.len() {

@@ -321,6 +321,18 @@ impl Settings {
         s
     }
 
+    /// `self` with a factor of $\theta_d$ ([`FactorSpec::difference`], smoothed like the
+    /// light factor, so one $\lambda$ still sets every 1D table) unless it has one already.
+    pub fn and_difference(&self) -> Settings {
+        let mut s = self.clone();
+        if !s.factors.iter().any(|f| matches!(f.input, Input::Difference | Input::HalfDifference)) {
+            let mut f = FactorSpec::difference(defaults::RES_DIFFERENCE);
+            f.smooth = s.factors.first().filter(|f| f.dim() == 1).map_or(f.smooth, |l| l.smooth);
+            s.factors.push(f);
+        }
+        s
+    }
+
     /// $p(l)\,q(\theta_h, \theta_d)\,r(v)$: the half-vector factor replaced by a 2D table
     /// of $(\theta_h, \theta_d)$, `res_h` × `res_h` nodes. Its smoothing is the 2D default;
     /// the weak damping of 2D tables keeps the $\theta_d$ rows no painting reaches near
@@ -422,5 +434,113 @@ impl Settings {
         let mut h = crate::util::Fnv::new();
         h.write(serde_json::to_string(self).unwrap_or_default().as_bytes());
         h.finish()
+    }
+}
+
+/// Whether a uniform fit adds a factor of $\theta_d$ (issue 15; `fit --theta-d`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DifferenceChoice {
+    /// When the paintings show a spread of $\theta_d$ of at least [`DIFFERENCE_SPREAD_DEG`].
+    #[default]
+    Auto,
+    /// Always.
+    On,
+    /// Never: the thesis's $p(l)\,q(h)\,r(v)$.
+    Off,
+}
+
+/// The spread of $\theta_d$ (degrees, [`difference_spread`]) from which `auto` adds a
+/// factor of $\theta_d$. A painting under a distant light seen by a distant camera shows one
+/// $\theta_d$, half the light-camera angle; the three standard paintings of the wide suite show
+/// 18°, 22° and 28° (spread 10°), where $s(\theta_d)$ has nothing to learn and costs a
+/// little (median 0.0316 → 0.0326); the three wide ones (key, side and back light) show 17°
+/// to 76°, where it helps (0.0433 → 0.0421 with the base, 0.069 → 0.053 without;
+/// BENCHMARKS.md, "Half/difference factors").
+pub const DIFFERENCE_SPREAD_DEG: f64 = 20.0;
+
+/// The range of $\theta_d = \angle(l, h)$ over `pattern`'s queries, from the 5th to the 95th
+/// percentile, in degrees (0 for an empty pattern).
+pub fn difference_spread(pattern: &super::Pattern) -> f64 {
+    let mut d: Vec<f64> = pattern.queries.iter().map(|q| q.l.dot(q.h()).clamp(-1.0, 1.0).acos().to_degrees()).collect();
+    if d.is_empty() {
+        return 0.0;
+    }
+    d.sort_by(f64::total_cmp);
+    let at = |p: f64| d[((d.len() - 1) as f64 * p).round() as usize];
+    at(0.95) - at(0.05)
+}
+
+impl DifferenceChoice {
+    /// The settings to fit `pattern` with, and whether a factor of $\theta_d$ was added.
+    pub fn apply(self, settings: &Settings, pattern: &super::Pattern) -> (Settings, bool) {
+        let wanted = match self {
+            DifferenceChoice::On => true,
+            DifferenceChoice::Off => false,
+            DifferenceChoice::Auto => difference_spread(pattern) >= DIFFERENCE_SPREAD_DEG,
+        };
+        let with = settings.and_difference();
+        match wanted && with.factors.len() > settings.factors.len() {
+            true => (with, true),
+            false => (settings.clone(), false),
+        }
+    }
+}
+
+impl fmt::Display for DifferenceChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            DifferenceChoice::Auto => "auto",
+            DifferenceChoice::On => "on",
+            DifferenceChoice::Off => "off",
+        })
+    }
+}
+
+impl std::str::FromStr for DifferenceChoice {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "auto" => Ok(DifferenceChoice::Auto),
+            "on" => Ok(DifferenceChoice::On),
+            "off" => Ok(DifferenceChoice::Off),
+            _ => Err(Error::input(format!("unknown --theta-d '{s}': expected auto, on or off"))),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::factor::{Pattern, Query};
+    use glam::DVec3;
+
+    /// A light `deg` from the camera, turned about y.
+    fn light(deg: f64) -> DVec3 {
+        let r = deg.to_radians();
+        DVec3::new(r.sin(), 0.0, r.cos())
+    }
+
+    /// θ_d is half the light-camera angle: lights 20° and 100° from the camera give 10° and
+    /// 50°, a spread of 40°, and `auto` adds the factor (smoothed like the light factor);
+    /// one light gives one θ_d and no factor.
+    #[test]
+    fn auto_adds_a_difference_factor_when_the_spread_is_wide() {
+        let queries = |lights: &[f64]| Pattern::new(lights.iter().flat_map(|&d| (0..50).map(move |_| Query::at(light(d), DVec3::Z))).collect(), false);
+        let wide = queries(&[20.0, 100.0]);
+        assert!((difference_spread(&wide) - 40.0).abs() < 1e-9, "{}", difference_spread(&wide));
+        let mut settings = Settings::default();
+        settings.factors[0].smooth = 3e-5;
+        let (with, added) = DifferenceChoice::Auto.apply(&settings, &wide);
+        assert!(added);
+        assert_eq!(with.factors.len(), 4);
+        assert_eq!(with.factors[3].input, Input::Difference);
+        assert_eq!(with.factors[3].smooth, 3e-5);
+        let narrow = queries(&[20.0]);
+        assert_eq!(difference_spread(&narrow), 0.0);
+        assert!(!DifferenceChoice::Auto.apply(&settings, &narrow).1);
+        assert!(!DifferenceChoice::Off.apply(&settings, &wide).1);
+        assert!(DifferenceChoice::On.apply(&settings, &narrow).1);
+        // A product that has a factor of θ_d already gets no second one.
+        assert!(!DifferenceChoice::On.apply(&with, &wide).1);
     }
 }
