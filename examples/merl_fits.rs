@@ -6,7 +6,7 @@
 //! `cargo run --release --example merl_fits [-- ../shared/data/merl-fits/merl_abc_fits_low2012.csv] [--base]`
 //!
 //! With `--base`: the warped default without and with the analytic base (`factor::base`,
-//! `ggx` and `auto`).
+//! `ggx` and `auto`). With `--theta-d`: without and with a factor of θ_d, and the base.
 
 use brdfpaint::brdf::{Abc, Reflectance, SphereView};
 use brdfpaint::factor::{Pattern, Settings};
@@ -29,6 +29,19 @@ fn main() -> brdfpaint::Result<()> {
             ("warped", Settings::default(), BaseChoice::None),
             ("+ base ggx", Settings::default(), BaseChoice::Ggx),
             ("+ base auto", Settings::default(), BaseChoice::Auto),
+        ];
+    }
+    // `--theta-d`: the factor of θ_d (`fit --theta-d`) beside the warped default, without
+    // and with the base.
+    if std::env::args().any(|a| a == "--theta-d") {
+        let theta_d = Settings::default().and_difference();
+        settings = vec![
+            ("warped", Settings::default(), BaseChoice::None),
+            ("+ θ_d", theta_d.clone(), BaseChoice::None),
+            ("+ base ggx", Settings::default(), BaseChoice::Ggx),
+            ("+ θ_d + base ggx", theta_d.clone(), BaseChoice::Ggx),
+            ("+ base auto", Settings::default(), BaseChoice::Auto),
+            ("+ θ_d + base auto", theta_d, BaseChoice::Auto),
         ];
     }
     let mut columns: Vec<(String, Vec<Row>)> = Vec::new();
