@@ -3,8 +3,11 @@
 //! by the robust fit (`Prepared::solve_robust`), judged on held-out lights and views against
 //! the clean truth; and light sweeps of materials painted lit from the front.
 //!
-//! `cargo run --release --example faults [-- SIZE] [--models] [--only CASE]`
+//! `cargo run --release --example faults [-- SIZE] [--models] [--only CASE] [--read] [--base auto|none|ggx]`
+//!
+//! The analytic base is chosen as `brdfpaint fit` chooses it (`auto`) unless `--base` says.
 
+use brdfpaint::factor::base::BaseChoice;
 use brdfpaint::factor::{Mapping, Robust, Settings};
 use brdfpaint::pipeline::Reading;
 use brdfpaint::study::median;
@@ -29,6 +32,11 @@ fn main() -> brdfpaint::Result<()> {
     let per_model = args.iter().any(|a| a == "--models");
     let only = args.iter().position(|a| a == "--only").and_then(|i| args.get(i + 1)).cloned();
     let settings = Settings::default();
+    // `--base none|auto|ggx`: the analytic base (`brdfpaint fit`'s default, auto, unless told).
+    let base_choice: BaseChoice = match args.iter().position(|a| a == "--base") {
+        Some(i) => args.get(i + 1).map_or("missing", |s| s.as_str()).parse()?,
+        None => BaseChoice::Auto,
+    };
     let mut sampler = SceneSampler::new()?;
     let held: Vec<StudyView> =
         held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, size)).collect::<Result<_, _>>()?;
@@ -87,7 +95,7 @@ fn main() -> brdfpaint::Result<()> {
         }
         let painted = [FaultyView::new(&mut sampler, &painted_presets(1)[0], size, f.light_off_deg)?];
         for &(name, solve) in &solvers {
-            let rows = faults::measure(&painted, &held, &models, &settings, &f, solve, register)?;
+            let rows = faults::measure(&painted, &held, &models, &settings, &f, solve, register, base_choice)?;
             println!("{case:<14} {name:<14} {}", summary(&rows));
             if per_model {
                 for r in &rows {
@@ -109,7 +117,7 @@ fn main() -> brdfpaint::Result<()> {
         }
         let painted = [FaultyView::new(&mut sampler, &front, size, f.light_off_deg)?];
         for &(name, solve) in &solvers {
-            let rows = faults::measure(&painted, &held, &models, &settings, &f, solve, register)?;
+            let rows = faults::measure(&painted, &held, &models, &settings, &f, solve, register, base_choice)?;
             println!("{case:<14} {name:<14} {}", summary(&rows));
             if per_model {
                 for r in &rows {

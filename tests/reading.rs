@@ -27,7 +27,7 @@ fn held_out_median(f: &Faults, reading: Reading) -> f64 {
     let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, SIZE).unwrap()).collect();
     let painted = [FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, f.light_off_deg).unwrap()];
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
-    let rows = faults::measure(&painted, &held, &faults::suite(), &Settings::default(), f, &plain, reading).unwrap();
+    let rows = faults::measure(&painted, &held, &faults::suite(), &Settings::default(), f, &plain, reading, brdfpaint::factor::base::BaseChoice::Auto).unwrap();
     median(&rows.iter().map(|r| r.held_out).collect::<Vec<_>>())
 }
 
@@ -171,7 +171,7 @@ fn paintings_with_every_fault_generalize() {
     let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, SIZE).unwrap()).collect();
     let painted = [FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, f.light_off_deg).unwrap()];
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
-    let rows = faults::measure(&painted, &held, &faults::suite(), &Settings::default(), &f, &plain, Reading::default()).unwrap();
+    let rows = faults::measure(&painted, &held, &faults::suite(), &Settings::default(), &f, &plain, Reading::default(), brdfpaint::factor::base::BaseChoice::Auto).unwrap();
     let held_out = median(&rows.iter().map(|r| r.held_out).collect::<Vec<_>>());
     let worst = rows.iter().map(|r| r.worst_view).fold(0.0, f64::max);
     eprintln!("all faults: held-out median {held_out:.4}, worst view {worst:.3}");

@@ -24,8 +24,8 @@ fn study(f: &Faults) -> (Vec<faults::Row>, Vec<faults::Row>) {
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
     let robust = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve_robust(v, Mapping::Auto, &Robust::default());
     (
-        faults::measure(&painted, &held, &models, &settings, f, &plain, Reading { smooth_tones: false, register_light: false, repaint_strays: false }).unwrap(),
-        faults::measure(&painted, &held, &models, &settings, f, &robust, Reading { smooth_tones: false, register_light: false, repaint_strays: false }).unwrap(),
+        faults::measure(&painted, &held, &models, &settings, f, &plain, Reading { smooth_tones: false, register_light: false, repaint_strays: false }, brdfpaint::factor::base::BaseChoice::None).unwrap(),
+        faults::measure(&painted, &held, &models, &settings, f, &robust, Reading { smooth_tones: false, register_light: false, repaint_strays: false }, brdfpaint::factor::base::BaseChoice::None).unwrap(),
     )
 }
 

@@ -348,7 +348,9 @@ pub type Solve<'a> = &'a dyn Fn(&Prepared, &[[f64; 3]]) -> Result<Fit>;
 
 /// Fit every model from faulty paintings of `painted` and judge it on `held_out` against
 /// the clean truth. The paintings are read as `reading` says first (`brdfpaint fit` reads
-/// them with [`Reading::default`]).
+/// them with [`Reading::default`]), and the product gets the analytic `base` as
+/// [`Material::fit_based`] chooses it (`brdfpaint fit` passes `auto`): a kept base replaces
+/// `solve`'s fit with the plain solve over it.
 pub fn measure(
     painted: &[FaultyView],
     held_out: &[StudyView],
@@ -357,6 +359,7 @@ pub fn measure(
     faults: &Faults,
     solve: Solve<'_>,
     reading: Reading,
+    base: crate::factor::base::BaseChoice,
 ) -> Result<Vec<Row>> {
     let mut prepared: Option<Prepared> = None;
     let mut rows = Vec::new();
@@ -372,7 +375,11 @@ pub fn measure(
         }
         let p = prepared.as_ref().ok_or_else(|| Error::Numeric("no prepared system".into()))?;
         let fit = solve(p, &samples.values)?;
-        let material = Material::from_fit(settings, &fit, Provenance::default())?;
+        let mut material = Material::from_fit(settings, &fit, Provenance::default())?;
+        // As `brdfpaint fit` does: the analytic base when it alone explains the painting.
+        if let Some(based) = Material::fit_based(p, &samples.pattern, &samples.values, settings, crate::factor::Mapping::Auto, base, Provenance::default())? {
+            material = based;
+        }
         let held = held_out_error(&material, model, held_out, None)?;
         let worst = held_out.chunks(1).map(|v| held_out_error(&material, model, v, None)).collect::<Result<Vec<f64>>>()?;
         let sweep = sweep_ratio(&light_sweep(&material, 24, 64));
