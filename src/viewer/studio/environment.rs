@@ -15,8 +15,8 @@
 use std::path::{Path, PathBuf};
 
 use super::super::display::Develop;
-use super::panel::{combo_width, labelled};
-use super::{short, Studio};
+use super::panel::{choice, combo_width, labelled};
+use super::Studio;
 use crate::error::{Error, Result};
 use crate::gl::Gl;
 use crate::images::env::{self as hdr, Environment};
@@ -226,15 +226,19 @@ impl Studio {
     /// The panel's "Environment" section.
     pub(super) fn environment_ui(&mut self, renderer: &Renderer, ui: &mut egui::Ui) {
         let width = combo_width(ui);
-        let mut pick = self.env.name.clone();
-        labelled(ui, "environment", |ui| {
-            egui::ComboBox::from_id_salt("environment").width(width).truncate().selected_text(short(&pick)).show_ui(ui, |ui| {
-                ui.selectable_value(&mut pick, NONE.to_string(), NONE);
-                for (name, _) in hdr::BUNDLED {
-                    ui.selectable_value(&mut pick, name.to_string(), name);
-                }
-            });
-        });
+        // A panorama opened from a file is not in the list: the box shows its name until
+        // another is picked.
+        let names: Vec<&str> = std::iter::once(NONE).chain(hdr::BUNDLED.iter().map(|(name, _)| *name)).collect();
+        let current = names.iter().position(|n| *n == self.env.name);
+        let pick = match current {
+            Some(k) => names[choice(ui, "environment", &names, k)].to_string(),
+            None => {
+                let mut named = names.clone();
+                named.push(&self.env.name);
+                let k = choice(ui, "environment", &named, named.len() - 1);
+                named[k].to_string()
+            }
+        };
         if pick != self.env.name {
             match self.env.choose(renderer.gl(), &pick) {
                 Ok(()) => {

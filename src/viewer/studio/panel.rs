@@ -38,6 +38,29 @@ pub(super) fn combo_width(ui: &egui::Ui) -> f32 {
     (ui.available_width() - LABEL_WIDTH - 2.0 * ui.spacing().item_spacing.x - COMBO_ARROW).max(60.0)
 }
 
+/// A labelled combo box of `names`, `current` selected; the index picked (`current` when
+/// nothing was). Names are shortened in the box and the list ([`short`]); the whole name of
+/// the selection shows on hover.
+pub(super) fn choice(ui: &mut egui::Ui, label: &str, names: &[&str], current: usize) -> usize {
+    let width = combo_width(ui);
+    let mut pick = current;
+    let whole = names.get(current).copied().unwrap_or("");
+    labelled(ui, label, |ui| {
+        egui::ComboBox::from_id_salt(label)
+            .width(width)
+            .truncate()
+            .selected_text(short(whole))
+            .show_ui(ui, |ui| {
+                for (k, name) in names.iter().enumerate() {
+                    ui.selectable_value(&mut pick, k, short(name));
+                }
+            })
+            .response
+            .on_hover_text(whole);
+    });
+    pick
+}
+
 impl Studio {
     pub(super) fn controls(&mut self, renderer: &mut Renderer, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
@@ -73,40 +96,15 @@ impl Studio {
     }
 
     fn catalogue_ui(&mut self, renderer: &mut Renderer, ui: &mut egui::Ui) {
-        let width = combo_width(ui);
-        let mut pick = self.catalogue.model;
-        labelled(ui, "model", |ui| {
-            egui::ComboBox::from_id_salt("model")
-                .width(width)
-                .truncate()
-                .selected_text(short(self.catalogue.model_name()))
-                .show_ui(ui, |ui| {
-                    for (k, m) in self.catalogue.models.iter().enumerate() {
-                        ui.selectable_value(&mut pick, k, short(&m.name));
-                    }
-                })
-                .response
-                .on_hover_text(self.catalogue.model_name());
-        });
+        let models: Vec<&str> = self.catalogue.models.iter().map(|m| m.name.as_str()).collect();
+        let pick = choice(ui, "model", &models, self.catalogue.model);
         if pick != self.catalogue.model {
             if let Err(e) = self.select_model(renderer, pick) {
                 self.status.fail(e.to_string());
             }
         }
-        let mut pick = self.catalogue.material;
-        labelled(ui, "material", |ui| {
-            egui::ComboBox::from_id_salt("material")
-                .width(width)
-                .truncate()
-                .selected_text(short(self.catalogue.material_name()))
-                .show_ui(ui, |ui| {
-                    for (k, m) in self.catalogue.materials.iter().enumerate() {
-                        ui.selectable_value(&mut pick, k, short(&m.name));
-                    }
-                })
-                .response
-                .on_hover_text(self.catalogue.material_name());
-        });
+        let materials: Vec<&str> = self.catalogue.materials.iter().map(|m| m.name.as_str()).collect();
+        let pick = choice(ui, "material", &materials, self.catalogue.material);
         self.select_material(pick);
         ui.small("Drop a .glb/.gltf model, a material directory or a painting on the window to open it.");
         ui.horizontal(|ui| {
@@ -153,17 +151,11 @@ impl Studio {
 
     fn paint_ui(&mut self, renderer: &mut Renderer, ui: &mut egui::Ui) {
         if !self.easel.scene_mode {
-            let mut pick = self.easel.paint_model.clone();
-            let width = combo_width(ui);
-            labelled(ui, "paint model", |ui| {
-                egui::ComboBox::from_id_salt("paint model").width(width).truncate().selected_text(pick.clone()).show_ui(ui, |ui| {
-                    for n in builtin_models() {
-                        ui.selectable_value(&mut pick, n.to_string(), *n);
-                    }
-                });
-            });
-            if pick != self.easel.paint_model {
-                if let Err(e) = self.easel.restart(renderer, pick, preset_names()[0]) {
+            let models = builtin_models();
+            let current = models.iter().position(|n| *n == self.easel.paint_model).unwrap_or(usize::MAX);
+            let pick = choice(ui, "paint model", models, current);
+            if pick != current {
+                if let Err(e) = self.easel.restart(renderer, models[pick].to_string(), preset_names()[0]) {
                     self.status.fail(e.to_string());
                 }
             }
