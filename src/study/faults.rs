@@ -351,6 +351,8 @@ pub type Solve<'a> = &'a dyn Fn(&Prepared, &[[f64; 3]]) -> Result<Fit>;
 /// them with [`Reading::default`]), and the product gets the analytic `base` as
 /// [`Material::fit_based`] chooses it (`brdfpaint fit` passes `auto`): a kept base replaces
 /// `solve`'s fit with the plain solve over it.
+// The study's axes, each a caller's choice: bundling them would only rename them.
+#[allow(clippy::too_many_arguments)]
 pub fn measure(
     painted: &[FaultyView],
     held_out: &[StudyView],
