@@ -113,6 +113,32 @@ fn scripted_strokes_end_in_the_fit_of_the_final_paintings() {
     assert_eq!(session.prepared_samples(), prepared, "no new prepare for a recolouring stroke");
 }
 
+/// Views painted under the key light and under the rim light (θ_d about 17° and 70°) get a
+/// factor of θ_d in the live session, as `brdfpaint fit` adds it by default, and the live
+/// fit is the one-go fit with those settings; the key light alone does not get it.
+#[test]
+fn key_and_rim_views_get_a_factor_of_theta_d_as_fit_adds_it() {
+    let ctx = HeadlessContext::new().unwrap();
+    let mut renderer = Renderer::new(ctx.gl()).unwrap();
+    let mut session = PaintSession::new(Settings::default(), Mapping::Auto);
+    let a = session.add_view(PaintView::standard(&mut renderer, "sphere", "front-left", SIZE).unwrap());
+    let all = session.views[a].object_pixels();
+    session.views[a].canvas.fill(brush([0.5, 0.2, 0.1], 1.0), &all);
+    session.settle().unwrap();
+    let inputs = |m: &Material| m.terms[0].factors.iter().map(|f| f.spec.input.name().to_string()).collect::<Vec<_>>();
+    assert_eq!(inputs(session.material().unwrap()), ["light", "half", "view"]);
+    let b = session.add_view(PaintView::standard(&mut renderer, "sphere", "rim", SIZE).unwrap());
+    let all = session.views[b].object_pixels();
+    session.views[b].canvas.fill(brush([0.2, 0.1, 0.05], 1.0), &all);
+    session.views[b].canvas.stroke(brush([0.9, 0.8, 0.7], 6.0), &[Vec2::new(0.7 * SIZE as f32, 0.3 * SIZE as f32)]);
+    session.settle().unwrap();
+    assert_eq!(inputs(session.material().unwrap()), ["light", "half", "view", "difference"]);
+    let views: Vec<&PaintView> = session.views.iter().collect();
+    let (once, material) = fit_views(&views, &Settings::default(), Mapping::Auto).unwrap();
+    assert_eq!(inputs(&material), ["light", "half", "view", "difference"]);
+    assert_tables_close(&session.fit().unwrap().tables, &once.tables, "live vs fit_views with θ_d");
+}
+
 #[test]
 fn undo_and_redo_restore_the_exact_canvas_and_fit() {
     let ctx = HeadlessContext::new().unwrap();

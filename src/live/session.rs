@@ -53,13 +53,20 @@ pub fn fit_views(views: &[&PaintView], settings: &Settings, mapping: Mapping) ->
     if pattern.is_empty() {
         return Err(Error::input("nothing is painted: there are no samples"));
     }
-    let prepared = factor::prepare(&pattern, settings)?;
+    let prepared = factor::prepare(&pattern, &with_difference(settings, &pattern))?;
     let values = painted_values(views, &masks);
     let start = Instant::now();
     let fit = prepared.solve(&values, mapping)?;
     let provenance = provenance(views, &prepared, Some(fit.errors), start.elapsed().as_secs_f64());
-    let material = Material::from_fit(settings, &fit, provenance)?;
+    let material = Material::from_fit(prepared.settings(), &fit, provenance)?;
     Ok((fit, material))
+}
+
+/// The settings the views are fitted with: the session's, and a factor of θ_d when the
+/// painted views show side or back light, as `brdfpaint fit` adds it
+/// ([`factor::DifferenceChoice::Auto`]).
+fn with_difference(settings: &Settings, pattern: &factor::Pattern) -> Settings {
+    factor::DifferenceChoice::Auto.apply(settings, pattern).0
 }
 
 fn provenance(views: &[&PaintView], prepared: &Prepared, errors: Option<Errors>, solve_s: f64) -> Provenance {
@@ -283,7 +290,7 @@ impl PaintSession {
         }
         let views: Vec<&PaintView> = self.views.iter().collect();
         let pattern = pattern_of(&views, &masks);
-        let settings = self.settings.clone();
+        let settings = with_difference(&self.settings, &pattern);
         let (tx, rx) = mpsc::channel();
         std::thread::spawn(move || {
             // A dropped receiver (settings or views changed meanwhile) discards the result.
@@ -360,7 +367,7 @@ impl PaintSession {
         let fit = Fit { tables, map, errors: Errors::default(), tried: Vec::new() };
         let views: Vec<&PaintView> = self.views.iter().collect();
         let solve_s = t1.elapsed().as_secs_f64();
-        let material = Material::from_fit(&self.settings, &fit, provenance(&views, &system.prepared, None, solve_s))?;
+        let material = Material::from_fit(system.prepared.settings(), &fit, provenance(&views, &system.prepared, None, solve_s))?;
         let t2 = Instant::now();
         let waiting = if current { 0 } else { self.painted().saturating_sub(values.len() - erased.len()) };
         let report = Refit {
@@ -393,7 +400,7 @@ impl PaintSession {
         let fit = system.prepared.solve(&values, self.mapping)?;
         let solve_s = t1.elapsed().as_secs_f64();
         let material =
-            Material::from_fit(&self.settings, &fit, provenance(&views, &system.prepared, Some(fit.errors), solve_s))?;
+            Material::from_fit(system.prepared.settings(), &fit, provenance(&views, &system.prepared, Some(fit.errors), solve_s))?;
         let t2 = Instant::now();
         let report = Refit {
             samples: values.len(),
