@@ -187,8 +187,9 @@ fn options(args: &FitArgs) -> Result<Options> {
 pub(super) fn run(args: FitArgs) -> std::result::Result<(), Failure> {
     let opts = options(&args)?;
     match (&args.merl, &args.lit_sphere) {
-        // Dense MERL-style sampling shows every θ_d; its factor is added only when asked for
-        // (not measured on the MERL fits yet).
+        // Dense MERL-style sampling shows every θ_d, but its factor is added only when asked
+        // for: it lowers the median of the MERL set and loses a third of its materials by more
+        // than 10% (BENCHMARKS.md, "Automatic θ_d").
         (Some(merl), _) => {
             let settings = match args.theta_d {
                 DifferenceChoice::On => opts.settings.and_difference(),
