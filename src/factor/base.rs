@@ -78,9 +78,13 @@ const FRESNEL_RIDGE: f64 = 1e-4;
 /// bright parts of a painting count alike, as in log space) without dividing by zero.
 const WEIGHT_SOFTENING: f64 = 0.05;
 
-/// At most this many samples enter the search over $\alpha$ (every k-th sample);
-/// the final linear fit uses all of them.
+/// At most this many samples enter the search over $\alpha$ (every k-th sample).
 const SEARCH_SAMPLES: usize = 4096;
+
+/// At most this many samples (every k-th) enter the final linear fit of the colours and
+/// the misfit `auto` judges: all of a 256² painting's, a quarter of a 512² one's (fitting
+/// all 147k took about 40 ms, for four coefficients per channel).
+const FIT_SAMPLES: usize = 40_000;
 
 /// An analytic lobe under the factors. See the module documentation for the formula.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -221,12 +225,13 @@ impl Base {
             }
         }
         let alpha = if at(alpha.ln()) <= f1.min(f2) { alpha } else if f1 < f2 { x1.exp() } else { x2.exp() };
-        let all: Vec<usize> = (0..pattern.len()).collect();
-        let (res, k, penalty) = linear_fit(pattern, values, &all, delta, alpha);
+        // The colours from every sample up to [`FIT_SAMPLES`] (every k-th beyond).
+        let fitted: Vec<usize> = (0..pattern.len()).step_by(pattern.len().div_ceil(FIT_SAMPLES).max(1)).collect();
+        let (res, k, penalty) = linear_fit(pattern, values, &fitted, delta, alpha);
         let res = (res - penalty).max(0.0);
         // The misfit relative to the weighted values: $\sqrt{\sum w (B - S)^2 / \sum w S^2}$
         // (the data's part of the objective; the ridge's penalty is no misfit).
-        let scale: f64 = values.iter().map(|v| (0..3).map(|c| (v[c] / (v[c] + delta[c])).powi(2)).sum::<f64>()).sum();
+        let scale: f64 = fitted.iter().map(|&i| &values[i]).map(|v| (0..3).map(|c| (v[c] / (v[c] + delta[c])).powi(2)).sum::<f64>()).sum();
         let misfit = (res / scale.max(f64::MIN_POSITIVE)).sqrt();
         let ambient = [0, 1, 2].map(|c| k[c][0].max(AMBIENT_FLOOR * max[c]).max(1e-12));
         Some((Base { ambient, diffuse: k.map(|x| x[1]), specular: k.map(|x| x[2]), fresnel: k.map(|x| x[3]), alpha }, misfit))
@@ -386,14 +391,19 @@ impl BasedFit {
 /// [`Mapping::Auto`] each mapping is tried and the one with the lowest RMS on $S$ (not on
 /// the ratio) kept, `inverted` only for a clear gain, as [`Prepared::solve`] does.
 pub fn solve_based(prepared: &Prepared, pattern: &Pattern, values: &[[f64; 3]], mapping: Mapping, choice: BaseChoice) -> Result<BasedFit> {
-    let base = match choice {
+    match choose(pattern, values, choice) {
+        Some(base) => solve_on_base(prepared, pattern, values, mapping, &base),
+        None => Ok(BasedFit { base: None, fit: prepared.solve(values, mapping)? }),
+    }
+}
+
+/// The lobe `choice` gives for `values` on `pattern`: none for `none`, or for `auto` when the
+/// lobe alone misfits the samples by more than [`AUTO_MISFIT`].
+pub fn choose(pattern: &Pattern, values: &[[f64; 3]], choice: BaseChoice) -> Option<Base> {
+    match choice {
         BaseChoice::None => None,
         BaseChoice::Ggx => Base::fit(pattern, values).map(|b| b.0),
         BaseChoice::Auto => Base::fit(pattern, values).filter(|b| b.1 <= AUTO_MISFIT).map(|b| b.0),
-    };
-    match base {
-        Some(base) => solve_on_base(prepared, pattern, values, mapping, &base),
-        None => Ok(BasedFit { base: None, fit: prepared.solve(values, mapping)? }),
     }
 }
 

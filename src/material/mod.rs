@@ -210,13 +210,11 @@ impl Material {
         choice: crate::factor::base::BaseChoice,
         provenance: Provenance,
     ) -> Result<Option<Material>> {
-        if choice == crate::factor::base::BaseChoice::None {
+        // No lobe, no second solve: the plain fit stands.
+        let Some(base) = crate::factor::base::choose(pattern, values, choice) else {
             return Ok(None);
-        }
-        let fit = crate::factor::base::solve_based(prepared, pattern, values, mapping, choice)?;
-        if fit.base.is_none() {
-            return Ok(None);
-        }
+        };
+        let fit = crate::factor::base::solve_on_base(prepared, pattern, values, mapping, &base)?;
         let provenance = Provenance { errors: Some(fit.fit.errors), ..provenance };
         Material::from_based_fit(settings, &fit, provenance).map(Some)
     }
