@@ -10,7 +10,7 @@
 
 use brdfpaint::brdf::Analytic;
 use brdfpaint::factor::base::BaseChoice;
-use brdfpaint::factor::{difference_spread, DifferenceChoice, Pattern};
+use brdfpaint::factor::{difference_range, DifferenceChoice, Pattern};
 use brdfpaint::study::suite::{held_out, measure_based, paintings, peaks_based, sharp_model, summary, wide_paintings};
 
 fn main() -> brdfpaint::Result<()> {
@@ -43,7 +43,8 @@ fn main() -> brdfpaint::Result<()> {
     let measure = |painted: &[brdfpaint::brdf::SphereView]| {
         let pattern = Pattern::concat(&painted.iter().map(|v| v.pattern()).collect::<Vec<_>>());
         let (settings, added) = difference.apply(settings, &pattern);
-        println!("{} paintings: θ_d spans {:.0}°, factor of θ_d {}", painted.len(), difference_spread(&pattern), if added { "added" } else { "not added" });
+        let [lo, hi] = difference_range(&pattern);
+        println!("{} paintings: θ_d from {lo:.0}° to {hi:.0}°, factor of θ_d {}", painted.len(), if added { "added" } else { "not added" });
         measure_based(&models, &settings, painted, base)
     };
     let one = measure(&paintings(1))?;

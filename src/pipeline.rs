@@ -24,7 +24,7 @@ use crate::commit::StagedDir;
 use crate::error::{Error, Result};
 use crate::factor::cache::{Cache, Outcome};
 use crate::factor::base::BaseChoice;
-use crate::factor::{defaults, difference_spread, DifferenceChoice, Errors, Fit, Mapping, Prepared, Settings};
+use crate::factor::{defaults, difference_range, DifferenceChoice, Errors, Fit, Mapping, Prepared, Settings};
 use crate::images::Rgb;
 use crate::material::map::{self, MapOptions, MapReport};
 use crate::material::{Kind, Material, Provenance};
@@ -362,9 +362,9 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
     let mut fitted = Fitted { material, samples, solved, map };
     fitted.material.provenance.notes = diagnose(views, &fitted, opts.kind);
     if added && opts.difference == DifferenceChoice::Auto {
+        let [lo, hi] = difference_range(&fitted.samples.pattern);
         fitted.material.provenance.notes.push(format!(
-            "the paintings show side or back light: the angle between light and half vector spans {:.0}°, so a factor s(θ_d) was added for Fresnel and grazing terms (--theta-d off leaves it out)",
-            difference_spread(&fitted.samples.pattern)
+            "the paintings show side or back light: the angle between light and half vector goes from {lo:.0}° to {hi:.0}°, so a factor s(θ_d) was added for Fresnel and grazing terms (--theta-d off leaves it out)"
         ));
     }
     Ok(fitted)

@@ -94,7 +94,7 @@ pub(super) struct FitArgs {
     res: Option<usize>,
     /// A factor of θ_d, the angle between the light and the half vector (half/difference
     /// coordinates), for Fresnel and grazing terms: auto (added to a uniform fit when the
-    /// paintings' θ_d spans 20° or more, as under side or back light), on (`--theta-d`
+    /// paintings' θ_d spans 20° or more and reaches 45°, as under side or back light), on (`--theta-d`
     /// alone; any kind, --merl too), off (the thesis's p(l) q(h) r(v)).
     #[arg(long, value_name = "WHEN", default_value = "auto", default_missing_value = "on", num_args = 0..=1)]
     theta_d: DifferenceChoice,
