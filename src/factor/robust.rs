@@ -455,7 +455,9 @@ const GRID: [usize; 3] = [32, 16, 12];
 /// query. They depend only on the factors, so they are made once per set of factors (a
 /// session sees a handful) and kept: made afresh, they were 0.8 ms of every 0.1 ms refit.
 fn grid_stencils(factors: &[FactorSpec]) -> Arc<Vec<Stencil>> {
-    static MADE: Mutex<Vec<(Vec<FactorSpec>, Arc<Vec<Stencil>>)>> = Mutex::new(Vec::new());
+    /// The grid's stencils kept, per set of factors.
+    type Kept = Vec<(Vec<FactorSpec>, Arc<Vec<Stencil>>)>;
+    static MADE: Mutex<Kept> = Mutex::new(Vec::new());
     // A caller's projection is known by its name alone: not kept.
     let keep = !factors.iter().any(|f| matches!(f.input, Input::Custom(_)));
     let mut made = MADE.lock().unwrap_or_else(|e| e.into_inner());
@@ -542,7 +544,7 @@ mod tests {
         let pattern = Pattern::new(vec![Query::at(DVec3::Z, DVec3::Z), Query::at(DVec3::X, DVec3::Z)], false);
         let design = Design::new(&pattern, &settings).unwrap();
         // Peaked at node 0, falling: the maxima coincide.
-        let y = Mat::from_fn(design.n, 3, |r, c| -0.01 * (r - design.offsets.iter().filter(|&&o| o <= r).last().unwrap()) as f64 * (c + 1) as f64);
+        let y = Mat::from_fn(design.n, 3, |r, c| -0.01 * (r - design.offsets.iter().rfind(|&&o| o <= r).unwrap()) as f64 * (c + 1) as f64);
         let (top, grid) = (ceiling(&y, &settings, &design), peak(&y, &settings, &design));
         for c in 0..3 {
             assert!((top[c] - grid[c]).abs() < 1e-12, "{top:?} {grid:?}");

@@ -53,7 +53,7 @@ pub fn fit_views(views: &[&PaintView], settings: &Settings, mapping: Mapping) ->
     if pattern.is_empty() {
         return Err(Error::input("nothing is painted: there are no samples"));
     }
-    let prepared = factor::prepare(&pattern, &with_difference(settings, &pattern))?;
+    let prepared = factor::prepare(&pattern, &settings_for(settings, &pattern))?;
     let values = painted_values(views, &masks);
     let start = Instant::now();
     let fit = prepared.solve(&values, mapping)?;
@@ -65,7 +65,7 @@ pub fn fit_views(views: &[&PaintView], settings: &Settings, mapping: Mapping) ->
 /// The settings the views are fitted with: the session's, and a factor of θ_d when the
 /// painted views show side or back light, as `brdfpaint fit` adds it
 /// ([`factor::DifferenceChoice::Auto`]).
-fn with_difference(settings: &Settings, pattern: &factor::Pattern) -> Settings {
+fn settings_for(settings: &Settings, pattern: &factor::Pattern) -> Settings {
     factor::DifferenceChoice::Auto.apply(settings, pattern).0
 }
 
@@ -290,7 +290,7 @@ impl PaintSession {
         }
         let views: Vec<&PaintView> = self.views.iter().collect();
         let pattern = pattern_of(&views, &masks);
-        let settings = with_difference(&self.settings, &pattern);
+        let settings = settings_for(&self.settings, &pattern);
         let (tx, rx) = mpsc::channel();
         std::thread::spawn(move || {
             // A dropped receiver (settings or views changed meanwhile) discards the result.

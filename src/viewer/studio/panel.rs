@@ -88,9 +88,10 @@ impl Studio {
                 e.session.set_mapping(self.fit.mapping);
             }
             e.refine_needed |= change.settings || change.mapping || change.refit;
-            // The session adds s(θ_d) by itself, as `fit` does: say so beside the count.
+            // The session adds s(θ_d) by itself, as `fit` does (the sliders never do): say so
+            // beside the count.
             let difference = |m: &crate::material::Material| m.terms.iter().any(|t| t.factors.iter().any(|f| f.spec.input == crate::factor::Input::Difference));
-            if e.session.material().is_some_and(difference) && !e.session.settings().factors.iter().any(|f| f.input == crate::factor::Input::Difference) {
+            if e.session.material().is_some_and(difference) {
                 ui.small(format!("+ {} for s(θ_d): the painted views show side or back light", crate::factor::defaults::RES_DIFFERENCE));
             }
         });
