@@ -117,7 +117,8 @@ pub(super) struct FitArgs {
     #[arg(long, default_value = "auto")]
     mapping: Mapping,
     /// An analytic base under the product of a uniform fit (the product is fitted to
-    /// S / B): auto (a GGX lobe when it alone fits the paintings closely, else none), none
+    /// S / B): auto (a GGX lobe when it fits the paintings as closely as their brush texture and
+    /// noise allow, else none), none
     /// (the thesis's product), ggx (always; better on measured materials, BENCHMARKS.md).
     /// Material maps, hybrids and lit spheres fit no base.
     #[arg(long, default_value = "auto")]
@@ -222,7 +223,7 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
     let provenance =
         pipeline::provenance(vec![merl_path.display().to_string()], Some(fit.errors), pattern.len(), prepared.prepare_s, solve_s);
     let plain = Material::from_fit(settings, &fit, provenance.clone())?;
-    let material = Material::fit_based(&prepared, &pattern, &values, settings, args.mapping, args.base, provenance)?.unwrap_or(plain);
+    let material = Material::fit_based(&prepared, &pattern, &values, &fit, settings, args.mapping, args.base, provenance)?.unwrap_or(plain);
     pipeline::save_material(&material, &args.out)?;
     println!(
         "{} samples, {} unknowns: prepare {:.1} ms ({}), solve {:.2} ms",

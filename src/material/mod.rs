@@ -200,18 +200,28 @@ impl Material {
     /// with `settings`) fitted to $S / B$. The prepared system is the one of the plain fit:
     /// the base changes only the right-hand side. `None` when `choice` gives no base (`none`,
     /// or `auto` when the lobe does not fit the samples): keep the plain fit then.
+    /// `plain` is the product's own fit of `values` on `prepared`: `auto` judges the lobe
+    /// against its misfit (the painting's roughness, [`crate::factor::base::excess`]).
     /// `provenance.errors` is replaced by the based fit's errors on $S$.
+    // The fit's inputs, each the caller's: bundling them would only rename them.
+    #[allow(clippy::too_many_arguments)]
     pub fn fit_based(
         prepared: &crate::factor::Prepared,
         pattern: &crate::factor::Pattern,
         values: &[[f64; 3]],
+        plain: &crate::factor::Fit,
         settings: &Settings,
         mapping: crate::factor::Mapping,
         choice: crate::factor::base::BaseChoice,
         provenance: Provenance,
     ) -> Result<Option<Material>> {
+        use crate::factor::base::{choose, misfit, BaseChoice};
+        let product = match choice {
+            BaseChoice::Auto => misfit(values, &prepared.predict(&plain.tables, &plain.map)),
+            _ => 0.0,
+        };
         // No lobe, no second solve: the plain fit stands.
-        let Some(base) = crate::factor::base::choose(pattern, values, choice) else {
+        let Some(base) = choose(pattern, values, choice, product) else {
             return Ok(None);
         };
         let fit = crate::factor::base::solve_on_base(prepared, pattern, values, mapping, &base)?;

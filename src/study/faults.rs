@@ -378,8 +378,9 @@ pub fn measure(
         let p = prepared.as_ref().ok_or_else(|| Error::Numeric("no prepared system".into()))?;
         let fit = solve(p, &samples.values)?;
         let mut material = Material::from_fit(settings, &fit, Provenance::default())?;
-        // As `brdfpaint fit` does: the analytic base when it alone explains the painting.
-        if let Some(based) = Material::fit_based(p, &samples.pattern, &samples.values, settings, crate::factor::Mapping::Auto, base, Provenance::default())? {
+        // As `brdfpaint fit` does: the analytic base when it explains the painting as well as
+        // the painting's roughness allows.
+        if let Some(based) = Material::fit_based(p, &samples.pattern, &samples.values, &fit, settings, crate::factor::Mapping::Auto, base, Provenance::default())? {
             material = based;
         }
         let held = held_out_error(&material, model, held_out, None)?;
