@@ -21,12 +21,16 @@
 //! the light is registered [`refine`] reads the tones again through the physical proxy
 //! ([`super::proxy`]): the smooth shading that keeps every pixel inside its interval (6
 //! levels: held-out error 0.165 interpolated, 0.068 through the proxy; BENCHMARKS.md).
+//! A highlight sharper than the proxy's Blinn-Phong lobes leaves its tone intervals through
+//! them; there it is read with a GGX lobe of the width the tones say ([`microfacet`]: a GGX
+//! sphere of α = 0.04 at 6 levels, held-out 0.22 → 0.10).
 //!
 //! A painting counts as toned when, over its samples, every channel takes at most
 //! [`MAX_LEVELS`] distinct 8-bit codes and some channel at least [`MIN_LEVELS`]: two tones are a
 //! toon style to keep, hundreds a painted gradient.
 
 use super::{proxy, PaintedView};
+use crate::factor::base::specular_shape;
 use crate::images::{linear_to_srgb, srgb_to_linear};
 
 /// Most distinct codes per channel of a toned painting.
@@ -137,7 +141,8 @@ type Site = (usize, [f64; proxy::BASIS], [f64; 3], [[f64; 2]; 3]);
 /// sphere wide); where it does not, the interpolation stays.
 ///
 /// A channel with three or four levels does not pin seven functions down, so the shape is
-/// read from the luminance first (whose intervals are narrow: it mixes every channel's
+/// read from the luminance first (its lobe from the Blinn-Phong lobes, or a microfacet lobe
+/// where those cannot hold the tones: [`microfacet`]) (whose intervals are narrow: it mixes every channel's
 /// edges, and one material's channels share their shading), and each channel then fits only
 /// its own ambient, diffuse, cool-side and highlight weights on that shape.
 pub fn refine(view: &mut PaintedView, toned: &Toned) {
@@ -164,6 +169,19 @@ pub fn refine(view: &mut PaintedView, toned: &Toned) {
         .collect();
     let start: Vec<f64> = geometry.iter().map(|&(k, ..)| (0..3).map(|c| Y[c] * value(k, c)).sum()).collect();
     let Some((shape, _)) = proxy::fit_within(&luminance, &start) else { return };
+    // Per site, per unit of light: the luminance's lobe and its whole shading, from the
+    // Blinn-Phong lobes or, where they clearly cannot hold the tones, a microfacet lobe.
+    let shading: Vec<(f64, f64)> = match microfacet(view, &geometry, &luminance, &start, &shape) {
+        Some((x, alpha)) => geometry
+            .iter()
+            .map(|&(k, b, ..)| {
+                // Every site's pixel sees the object (`geometry` above).
+                let lobe = x[3] * view.geometry.pixels[k].as_ref().map_or(0.0, |p| specular_shape(p.query.l, p.query.v, alpha).0);
+                (lobe, x[0] * b[0] + x[1] * b[1] + x[2] * b[2] + lobe)
+            })
+            .collect(),
+        None => geometry.iter().map(|(_, b, ..)| ((3..proxy::BASIS).map(|j| shape[j] * b[j]).sum(), proxy::eval(b, &shape))).collect(),
+    };
     let mut out: Vec<[f32; 3]> = geometry.iter().map(|&(k, ..)| view.painting.pixels[k]).collect();
     for c in 0..3 {
         if toned.levels[c] < 2 {
@@ -175,9 +193,9 @@ pub fn refine(view: &mut PaintedView, toned: &Toned) {
         let few = toned.levels[c] <= FEW_LEVELS;
         let points: Vec<([f64; 4], [f64; 2])> = geometry
             .iter()
-            .map(|(_, b, light, bounds)| {
-                let lobe: f64 = (3..proxy::BASIS).map(|j| shape[j] * b[j]).sum();
-                let basis = if few { [b[0], proxy::eval(b, &shape), 0.0, 0.0] } else { [b[0], b[1], b[2], lobe] };
+            .zip(&shading)
+            .map(|((_, b, light, bounds), &(lobe, whole))| {
+                let basis = if few { [b[0], whole, 0.0, 0.0] } else { [b[0], b[1], b[2], lobe] };
                 (basis.map(|x| x * light[c]), bounds[c])
             })
             .collect();
@@ -198,6 +216,88 @@ pub fn refine(view: &mut PaintedView, toned: &Toned) {
         view.painting.pixels[k] = px;
     }
 }
+
+/// GGX widths [`microfacet`] tries, log-spaced.
+const ALPHAS: usize = 16;
+const ALPHA_MIN: f64 = 0.02;
+const ALPHA_MAX: f64 = 1.0;
+/// At most this many toned samples (every k-th) in [`microfacet`]'s search over widths.
+const SEARCH_SAMPLES: usize = 8192;
+
+/// How far a proxy leaves the intervals: $\sqrt{\sum w^2 d^2 / \sum w^2 s^2}$ with $d$ the
+/// distance of the proxy to each interval (0 inside), $s$ the start and $w$ relative
+/// weights, as in [`proxy::fit_within`].
+fn outside<const N: usize>(points: &[([f64; N], [f64; 2])], start: &[f64], x: &[f64; N]) -> f64 {
+    let peak = start.iter().copied().fold(0.0, f64::max);
+    let (mut r, mut t) = (0.0, 0.0);
+    for ((b, [lo, hi]), &s) in points.iter().zip(start) {
+        let f = proxy::eval(b, x);
+        let d = if f < *lo { lo - f } else if f > *hi { f - hi } else { 0.0 };
+        let w = 1.0 / (s + 0.05 * peak);
+        r += (w * d).powi(2);
+        t += (w * s).powi(2);
+    }
+    r / t.max(f64::MIN_POSITIVE)
+}
+
+/// The luminance's tones read with a microfacet lobe instead of the Blinn-Phong lobes:
+/// ambient, diffuse, cool side and a GGX specular lobe
+/// ([`crate::factor::base::specular_shape`]) of the width that best keeps inside the
+/// intervals. Returned (weights, width) only where the Blinn-Phong lobes clearly cannot hold
+/// the tones ([`LOBE_GAIN`]): a highlight sharper than their $e = 256$ (GGX $\alpha$ = 0.04
+/// at 6 levels leaves its intervals by 0.11 through them, 0.0005 through its own lobe);
+/// elsewhere both fit the intervals, and the Blinn-Phong reading is kept as it was.
+fn microfacet(
+    view: &PaintedView,
+    geometry: &[Site],
+    luminance: &[([f64; proxy::BASIS], [f64; 2])],
+    start: &[f64],
+    shape: &[f64; proxy::BASIS],
+) -> Option<([f64; 4], f64)> {
+    let blinn: Vec<([f64; 4], [f64; 2])> =
+        luminance.iter().map(|(b, i)| ([b[0], b[1], b[2], (3..proxy::BASIS).map(|j| shape[j] * b[j]).sum()], *i)).collect();
+    let held = outside(&blinn, start, &[shape[0], shape[1], shape[2], 1.0]).sqrt();
+    if held <= LOBE_FLOOR {
+        return None;
+    }
+    let dirs: Vec<Option<(glam::DVec3, glam::DVec3)>> =
+        geometry.iter().map(|&(k, ..)| view.geometry.pixels[k].as_ref().map(|p| (p.query.l, p.query.v))).collect();
+    let points = |alpha: f64, idx: &[usize]| -> Vec<([f64; 4], [f64; 2])> {
+        idx.iter()
+            .map(|&i| {
+                let (b, interval) = &luminance[i];
+                // b[0] is the basis's 1 times the luminance the light delivers.
+                let s = dirs[i].map_or(0.0, |(l, v)| specular_shape(l, v, alpha).0);
+                ([b[0], b[1], b[2], b[0] * s], *interval)
+            })
+            .collect()
+    };
+    let stride = luminance.len().div_ceil(SEARCH_SAMPLES).max(1);
+    let search: Vec<usize> = (0..luminance.len()).step_by(stride).collect();
+    let search_start: Vec<f64> = search.iter().map(|&i| start[i]).collect();
+    let mut best: Option<(f64, f64)> = None;
+    for k in 0..ALPHAS {
+        let alpha = ALPHA_MIN * (ALPHA_MAX / ALPHA_MIN).powf(k as f64 / (ALPHAS - 1) as f64);
+        let pts = points(alpha, &search);
+        if let Some((x, _)) = proxy::fit_within(&pts, &search_start) {
+            let m = outside(&pts, &search_start, &x);
+            if best.is_none_or(|b| m < b.0) {
+                best = Some((m, alpha));
+            }
+        }
+    }
+    let alpha = best?.1;
+    let all: Vec<usize> = (0..luminance.len()).collect();
+    let pts = points(alpha, &all);
+    let (x, _) = proxy::fit_within(&pts, start)?;
+    (outside(&pts, start, &x).sqrt() <= LOBE_GAIN * held).then_some((x, alpha))
+}
+
+/// [`microfacet`] reads the tones only where the Blinn-Phong lobes leave the intervals by more
+/// than this (relative)...
+const LOBE_FLOOR: f64 = 0.01;
+/// ...and the microfacet lobe leaves them by at most this fraction of that.
+const LOBE_GAIN: f64 = 0.5;
 
 /// Euclidean distance from each pixel to the nearest `set` pixel (infinite when there is
 /// none): the exact transform of Felzenszwalb and Huttenlocher (2012), by rows then columns.
