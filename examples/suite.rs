@@ -80,9 +80,10 @@ fn main() -> brdfpaint::Result<()> {
     let solve_s = brdfpaint::study::bench::median_time(200, 1.0, || {
         std::hint::black_box(prepared.solve_tables(&values, &map).expect("solve"));
     });
-    // The base's own fit (the search over alpha and F0 and the linear fit), once per fit.
+    // The base's own fit (the search over alpha and the linear fit, for each of the four
+    // lobe families `auto` tries), once per fit.
     let base_s = brdfpaint::study::bench::median_time(20, 1.0, || {
-        std::hint::black_box(brdfpaint::factor::base::Base::fit(&pattern, &values));
+        std::hint::black_box(brdfpaint::factor::base::Base::fit_any(&pattern, &values));
     });
     // A whole solve (three mappings, errors on the samples), plain and over a fixed base.
     let plain_s = brdfpaint::study::bench::median_time(50, 1.0, || {

@@ -9,10 +9,12 @@
 //   NUM_FACTORS 0..6; F<k>_INPUT, F<k>_PARAM, F<k>_DOMAIN per factor and MAP_KIND name
 //   param.glsl's codes (INPUT_LIGHT, PARAM_RADIUS, DOMAIN_SPHERE, MAP_OFFSET, ...), the one
 //   place they are defined; F<k>_DIM 1 or 2; F<k>_WARP the node warp of a radius axis (a
-//   float literal, 1.0 for none); HAS_COEF 0 or 1; HAS_BASE 0 or 1.
+//   float literal, 1.0 for none); HAS_COEF 0 or 1; HAS_BASE 0 or 1; BASE_LOBE 0..3 (the
+//   base lobe's family).
 // Uniforms: u_factor<k> (sampler), u_res<k> (nodes per axis), u_map_a (per-channel a),
 //   u_coef (sampler) and u_coef_size (texels per axis); with a base u_base_ambient,
-//   u_base_diffuse, u_base_specular, u_base_fresnel (per channel) and u_base_alpha (GGX).
+//   u_base_diffuse, u_base_specular, u_base_fresnel (per channel) and u_base_alpha (the
+//   lobe's width), the lobe's family in BASE_LOBE.
 
 uniform sampler2D u_factor0;
 uniform sampler2D u_factor1;
@@ -38,9 +40,12 @@ uniform vec3 u_base_fresnel;
 uniform float u_base_alpha;
 
 // The analytic base, as Base::shading computes it (src/factor/base.rs):
-//   $B = a + \cos^+\theta_l (k_d + (k_s + k_f (1 - \cos\theta_d)^5) D G_1 G_1 /
-//   (4 \cos\theta_l \cos\theta_v))$: GGX's D, Smith's G_1 over 2cos (finite at grazing
-//   angles), Schlick's Fresnel as two linear coefficients.
+//   $B = a + \cos^+\theta_l (k_d + (k_s + k_f (1 - \cos\theta_d)^5) s(l, v; \alpha))$, with the
+//   specular lobe s of the family BASE_LOBE (Lobe: 0 GGX, 1 Blinn-Phong, 2 Phong, 3 Ward)
+//   and Schlick's Fresnel as two linear coefficients. GGX: D G_1 G_1 / (4 cos cos), with
+//   Smith's G_1 over 2cos (finite at grazing angles); Blinn-Phong and Phong: (n.h)^e and
+//   (r.v)^e with e = 2/alpha^2 - 2; Ward: exp(-tan^2 theta_h / alpha^2) / (4 pi alpha^2
+//   sqrt(cos cos)).
 vec3 term_base(Surface s) {
     float cl = s.l.z;
     float cv = s.v.z;
@@ -50,13 +55,26 @@ vec3 term_base(Surface s) {
         float a2 = alpha * alpha;
         // Both directions above the horizon, so l + v != 0.
         vec3 h = normalize(s.l + s.v);
+        float x = 1.0 - clamp(dot(s.l, h), 0.0, 1.0);
+        float x5 = x * x * x * x * x;
+#if BASE_LOBE == 0
         float t = (a2 - 1.0) * h.z * h.z + 1.0;
         float d = a2 / (3.14159265358979 * t * t);
         float gl = 1.0 / (cl + sqrt(a2 + (1.0 - a2) * cl * cl));
         float gv = 1.0 / (cv + sqrt(a2 + (1.0 - a2) * cv * cv));
-        float x = 1.0 - clamp(dot(s.l, h), 0.0, 1.0);
-        float x5 = x * x * x * x * x;
-        b += cl * d * gl * gv * (u_base_specular + x5 * u_base_fresnel);
+        float lobe = cl * d * gl * gv;
+#elif BASE_LOBE == 1 || BASE_LOBE == 2
+#if BASE_LOBE == 1
+        float c = h.z;
+#else
+        float c = 2.0 * cl * cv - dot(s.l, s.v);
+#endif
+        float lobe = c > 0.0 ? cl * pow(c, 2.0 / a2 - 2.0) : 0.0;
+#else
+        float c2 = max(h.z * h.z, 1e-30);
+        float lobe = cl * exp(-(1.0 - c2) / (c2 * a2)) / (4.0 * 3.14159265358979 * a2 * sqrt(cl * cv));
+#endif
+        b += lobe * (u_base_specular + x5 * u_base_fresnel);
     }
     return b;
 }

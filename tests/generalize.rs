@@ -88,9 +88,9 @@ fn a_sharp_highlight_peaks_within_15_percent_on_held_out_views() {
 /// Issue 15's analytic base (`factor::base`): a GGX sphere (roughness 0.2, α = 0.04) from
 /// the three standard paintings, judged on the rim-light view no painting resembles. With
 /// the default `auto` base the lobe fits the paintings (misfit below 1e-4) and carries the
-/// masking and 1/(cos θ_l cos θ_v) to the rim: measured rim error 0.36 (all five views
-/// pooled 0.039) against 0.71 (0.128) for the plain product. The bounds leave margin on
-/// both and tell the two apart; the rim keeps 0.36 because the paintings (θ_d ≤ 28°) cannot
+/// masking and 1/(cos θ_l cos θ_v) to the rim: measured rim error 0.23 (all five views
+/// pooled 0.025) against 0.71 (0.128) for the plain product. The bounds leave margin on
+/// both and tell the two apart; the rim keeps 0.23 because the paintings (θ_d ≤ 28°) cannot
 /// show the truth's Fresnel, so the base has none.
 #[test]
 fn an_analytic_base_carries_a_ggx_sphere_to_rim_light() {
@@ -112,7 +112,7 @@ fn an_analytic_base_carries_a_ggx_sphere_to_rim_light() {
 /// (`factor::base::excess`) and the fit carries it to lights and views nobody painted. A grainy
 /// Oren-Nayar painting's lobe misfits beyond its grain and is not kept (a GGX lobe under
 /// Oren-Nayar got worse held out: BENCHMARKS.md). Judged against the clean truth on the
-/// suite's five held-out views.
+/// suite's five held-out views (measured 0.022 with the lobe, 0.133 without).
 #[test]
 fn a_grainy_painting_keeps_the_lobe_its_grain_explains() {
     use brdfpaint::factor::base::{solve_based, Base, BaseChoice, AUTO_MISFIT};
@@ -149,4 +149,28 @@ fn a_grainy_painting_keeps_the_lobe_its_grain_explains() {
 fn normal(rng: &mut impl rand::Rng) -> f64 {
     let (u, v): (f64, f64) = (rng.random::<f64>().max(1e-300), rng.random::<f64>());
     (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+}
+
+/// Issue 15's targets on the 23-model wide suite, with the default `auto` base (a lobe of
+/// the family that explains the paintings, when one does: `factor::base::Lobe`), judged on
+/// the five held-out views pooled: one painting median ≤ 0.03, three paintings ≤ 0.015
+/// (measured 0.0147 and 0.0060; the plain product 0.0843 and 0.0330). A Phong sphere, which no
+/// table of θ_h holds, is carried to the rim light by its Phong lobe from one painting
+/// (measured rim view 0.0000, plain 0.687).
+#[test]
+fn the_wide_suite_meets_its_one_and_three_painting_targets() {
+    use brdfpaint::factor::base::BaseChoice;
+    use brdfpaint::study::suite::{measure_based, paintings};
+    let models = Analytic::wide_suite();
+    let median_of = |rows: &[brdfpaint::study::suite::Row]| brdfpaint::study::median(&rows.iter().map(|r| r.held_out).collect::<Vec<_>>());
+    let one = measure_based(&models, &Settings::default(), &paintings(1), BaseChoice::Auto).unwrap();
+    let three = measure_based(&models, &Settings::default(), &paintings(3), BaseChoice::Auto).unwrap();
+    let (m1, m3) = (median_of(&one), median_of(&three));
+    eprintln!("wide suite, auto base: median held-out from one painting {m1:.4}, from three {m3:.4}");
+    assert!(m1 <= 0.03 && m3 <= 0.015, "one painting {m1:.4}, three {m3:.4}");
+    let phong = one.iter().find(|r| r.model == "phong-50").unwrap();
+    let plain = &measure_based(&[models.iter().find(|m| m.name() == "phong-50").unwrap().clone()], &Settings::default(), &paintings(1), BaseChoice::None).unwrap()[0];
+    let rim = 3; // study::suite::held_out's order: held-1..3, rim, side
+    eprintln!("phong-50 from one painting: rim view {:.4} with its lobe, {:.4} plain", phong.views[rim], plain.views[rim]);
+    assert!(phong.views[rim] < 0.01 && plain.views[rim] > 0.4, "rim {:.4} vs plain {:.4}", phong.views[rim], plain.views[rim]);
 }

@@ -412,30 +412,33 @@ fn frame_times_at_1024() {
     }
 }
 
-/// A term over an analytic GGX base (issue 15, `factor::base`): the GLSL lobe of
-/// `shaders/term.glsl` against `Base::shading` in f64 times the CPU tables, in every test
-/// scene (back light and grazing views included, where the lobe's Fresnel and masking
-/// matter). The lobe is evaluated in f32 on the GPU; measured worst 1.5e-5 relative to
-/// max(|expected|, 1) at α = 0.15, within the tables' tolerance.
+/// A term over an analytic base (issue 15, `factor::base`) of each lobe family: the GLSL
+/// lobe of `shaders/term.glsl` against `Base::shading` in f64 times the CPU tables, in every
+/// test scene (back light and grazing views included, where the lobe's Fresnel, masking
+/// and grazing rise matter). The lobe is evaluated in f32 on the GPU; measured worst 1.5e-5
+/// relative to max(|expected|, 1) for GGX at α = 0.15, within the tables' tolerance; the
+/// Blinn-Phong and Phong widths give exponents 87 and 8, Ward's a narrow Gaussian.
 #[test]
 fn a_term_over_an_analytic_base_matches_the_cpu() {
-    use brdfpaint::factor::base::Base;
-    let base = Base { ambient: [0.02, 0.03, 0.01], diffuse: [0.5, 0.3, 0.2], specular: [0.4, 0.5, 0.6], fresnel: [0.6, 0.5, 0.3], alpha: 0.15 };
-    let factors = vec![
-        random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 33), 7),
-        random_factor(spec(Input::Half, Param::Radius, Domain::Sphere, 64), 8),
-    ];
-    let shading = uniform(Term { base: Some(base), factors, map: identity(), coefficients: None });
-    let plain = uniform(Term { base: None, ..shading.terms[0].clone() });
+    use brdfpaint::factor::base::{Base, Lobe};
     let ctx = HeadlessContext::new().unwrap();
-    for (name, scene, w, h) in scenes() {
-        let mut r = Renderer::new(ctx.gl()).unwrap();
-        let expected = |q: &brdfpaint::factor::Query| {
-            let (b, p) = (base.shading(q), cpu_shading(&plain, q));
-            [0, 1, 2].map(|c| b[c] * p[c])
-        };
-        let (worst, n) = compare_gl(&mut r, &scene, &shading, w, h, TABLE_TOL, "CPU with base", expected);
-        eprintln!("base {name}: {n} pixels, worst relative error {worst:.2e}");
-        assert!(n > 2000 && worst < TABLE_TOL, "{name}");
+    for (lobe, alpha) in [(Lobe::Ggx, 0.15), (Lobe::BlinnPhong, 0.15), (Lobe::Phong, 0.45), (Lobe::Ward, 0.2)] {
+        let base = Base { ambient: [0.02, 0.03, 0.01], diffuse: [0.5, 0.3, 0.2], specular: [0.4, 0.5, 0.6], fresnel: [0.6, 0.5, 0.3], alpha, lobe };
+        let factors = vec![
+            random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 33), 7),
+            random_factor(spec(Input::Half, Param::Radius, Domain::Sphere, 64), 8),
+        ];
+        let shading = uniform(Term { base: Some(base), factors, map: identity(), coefficients: None });
+        let plain = uniform(Term { base: None, ..shading.terms[0].clone() });
+        for (name, scene, w, h) in scenes() {
+            let mut r = Renderer::new(ctx.gl()).unwrap();
+            let expected = |q: &brdfpaint::factor::Query| {
+                let (b, p) = (base.shading(q), cpu_shading(&plain, q));
+                [0, 1, 2].map(|c| b[c] * p[c])
+            };
+            let (worst, n) = compare_gl(&mut r, &scene, &shading, w, h, TABLE_TOL, "CPU with base", expected);
+            eprintln!("base {} {name}: {n} pixels, worst relative error {worst:.2e}", lobe.name());
+            assert!(n > 2000 && worst < TABLE_TOL, "{} {name}", lobe.name());
+        }
     }
 }

@@ -204,11 +204,12 @@ fn measured_data_becomes_a_material_that_matches_it_on_new_directions() {
 /// Version 3 added a term's analytic base (`factor::base`). A version 2 file (the v1
 /// fixture's tables under version 2, which is how a v2 file without warps or θ_d factors
 /// reads: tests/data/material-v2) loads without a base and shades like the v1 fixture; a
-/// based material survives a save and load, base and all, and a base outside its ranges
-/// is refused on load.
+/// based material survives a save and load, base and all, whatever its lobe's family (a
+/// version 3 base, without one, is GGX), and a base outside its ranges or of an unknown
+/// family is refused on load.
 #[test]
 fn version_2_loads_and_a_base_round_trips() {
-    use brdfpaint::factor::base::{solve_based, BaseChoice};
+    use brdfpaint::factor::base::{solve_based, Base, BaseChoice, Lobe};
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
     let v2 = Material::load(&data.join("material-v2")).unwrap();
     let v1 = Material::load(&data.join("material-v1")).unwrap();
@@ -232,9 +233,28 @@ fn version_2_loads_and_a_base_round_trips() {
     let dir = tempfile::tempdir().unwrap();
     material.save(dir.path()).unwrap();
     let json: serde_json::Value = serde_json::from_slice(&std::fs::read(dir.path().join("material.json")).unwrap()).unwrap();
-    assert_eq!(json["version"], 3);
+    assert_eq!(json["version"], 4);
     assert_eq!(json["terms"][0]["base"]["alpha"], base.alpha);
+    assert_eq!(json["terms"][0]["base"]["lobe"], "ggx");
     assert!(Material::load(dir.path()).unwrap() == material);
+    // A version 3 file has no lobe: its base is GGX.
+    edit_json(dir.path(), |v| {
+        v["version"] = serde_json::json!(3);
+        v["terms"][0]["base"].as_object_mut().unwrap().remove("lobe");
+    });
+    assert!(Material::load(dir.path()).unwrap() == material);
+    // Another family survives the round trip and shades as its own lobe, not as GGX.
+    let mut phong = material.clone();
+    phong.terms[0].base = Some(Base { lobe: Lobe::Phong, ..base });
+    phong.save(dir.path()).unwrap();
+    let again = Material::load(dir.path()).unwrap();
+    assert!(again == phong && again.terms[0].base.unwrap().lobe == Lobe::Phong);
+    let q = random_queries(200).into_iter().find(|q| (again.shading(q)[0] - material.shading(q)[0]).abs() > 1e-3);
+    assert!(q.is_some(), "a Phong base shades differently from a GGX one somewhere");
+    edit_json(dir.path(), |v| v["terms"][0]["base"]["lobe"] = serde_json::json!("cook-torrance"));
+    let e = Material::load(dir.path()).unwrap_err().to_string();
+    assert!(e.contains("material.json"), "{e}");
+    edit_json(dir.path(), |v| v["terms"][0]["base"]["lobe"] = serde_json::json!("phong"));
     edit_json(dir.path(), |v| v["terms"][0]["base"]["alpha"] = serde_json::json!(0.0));
     let e = Material::load(dir.path()).unwrap_err().to_string();
     assert!(e.contains("alpha"), "{e}");

@@ -10,7 +10,7 @@ use super::Failure;
 use brdfpaint::brdf::Merl;
 use brdfpaint::error::{Error, Result};
 use brdfpaint::factor::cache::{Cache, Outcome};
-use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::factor::base::{BaseChoice, Lobe};
 use brdfpaint::factor::{prepare, DifferenceChoice, Fit, Mapping, Pattern, Settings};
 use brdfpaint::litsphere;
 use brdfpaint::material::{map, Kind, Material};
@@ -313,9 +313,18 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
 fn print_base(material: &Material) {
     if let Some(b) = material.terms.first().and_then(|t| t.base) {
         let e = material.provenance.errors.unwrap_or_default();
+        let width = match b.lobe {
+            Lobe::BlinnPhong | Lobe::Phong => format!("exponent {:.1} (alpha {:.4})", Lobe::exponent(b.alpha), b.alpha),
+            Lobe::Ggx | Lobe::Ward => format!("alpha {:.4}", b.alpha),
+        };
         println!(
-            "base ggx: alpha {:.4}, diffuse {:.3?}, specular {:.3?}, Fresnel {:.3?}; with the product RMS {:.5}  relative {:.4}",
-            b.alpha, b.diffuse, b.specular, b.fresnel, e.rms, e.rms_relative
+            "base {}: {width}, diffuse {:.3?}, specular {:.3?}, Fresnel {:.3?}; with the product RMS {:.5}  relative {:.4}",
+            b.lobe.name(),
+            b.diffuse,
+            b.specular,
+            b.fresnel,
+            e.rms,
+            e.rms_relative
         );
     }
 }

@@ -29,11 +29,14 @@ pub const FORMAT: &str = "brdfpaint-material";
 /// The version this build writes. Version 2 added the half/difference inputs
 /// (`difference`, `half-difference` with the `radii` parameterization) and the node warp of
 /// radius tables (`warp`, absent when 1). Version 3 added a term's analytic base (`base`:
-/// ambient, diffuse, specular per channel, GGX `alpha`, Fresnel `f0`; absent without one).
-pub const VERSION: u32 = 3;
+/// ambient, diffuse, specular and Fresnel per channel, the GGX width `alpha`; absent without
+/// one). Version 4 added the base lobe's family (`lobe`: `ggx`, `blinn-phong`, `phong` or
+/// `ward`), which a version 3 reader would ignore and draw as GGX.
+pub const VERSION: u32 = 4;
 /// The versions this build reads: version 1 files are version 2 files without those
-/// (every factor unwarped), version 2 files are version 3 files without bases.
-pub const READS: [u32; 3] = [1, 2, 3];
+/// (every factor unwarped), version 2 files are version 3 files without bases, version 3
+/// files are version 4 files whose bases are all GGX.
+pub const READS: [u32; 4] = [1, 2, 3, 4];
 /// Largest material.json read (the provenance is the only part that grows).
 const MAX_JSON_BYTES: u64 = 16 << 20;
 

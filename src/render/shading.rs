@@ -13,6 +13,7 @@
 use glam::Vec3;
 
 use crate::error::{Error, Result};
+use crate::factor::base::Lobe;
 use crate::factor::{Domain, Input, LogMap, Param};
 use crate::gl::{Filter, Gl, Limits, TexelFormat, Texture2D};
 use crate::material::Material;
@@ -200,6 +201,9 @@ impl GpuShading {
             };
             defines.push(("HAS_COEF", (coefficients.is_some() as i32).to_string()));
             defines.push(("HAS_BASE", (term.base.is_some() as i32).to_string()));
+            // The lobe's family selects the program (`shaders/term.glsl`), as `Lobe::ALL` orders them.
+            let lobe = term.base.map_or(0, |b| Lobe::ALL.iter().position(|&l| l == b.lobe).unwrap_or(0));
+            defines.push(("BASE_LOBE", lobe.to_string()));
             let v3 = |x: [f64; 3]| Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32);
             let base = term.base.map(|b| ([v3(b.ambient), v3(b.diffuse), v3(b.specular), v3(b.fresnel)], b.alpha as f32));
             let key = defines.iter().map(|(n, v)| format!("{n}={v}")).collect::<Vec<_>>().join(",");
