@@ -79,13 +79,13 @@ fn registered_paintings_generalize_to_held_out_views() {
     assert!(read < 0.6 * as_given, "{read} against {as_given}");
 }
 
-#[test]
-fn flat_tones_are_read_as_the_smooth_shading() {
-    let mut sampler = SceneSampler::new().unwrap();
-    let view = FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, 0.0).unwrap();
-    let model = Analytic::Lambert { albedo: [0.8, 0.5, 0.3] };
-    let clean = faults::paint(&view, &model, &Faults::clean()).unwrap();
-    let mut toned = faults::paint(&view, &model, &Faults::posterized()).unwrap();
+/// A posterized painting of `model` (6 levels per channel) read as `pipeline::read` reads
+/// tones: between tone edges (`tones::smooth`), then through the proxy (`tones::refine`).
+/// Returns what was read and the painting's relative RMS against the clean one as painted,
+/// between edges and refined.
+fn read_tones(view: &FaultyView, model: &Analytic) -> (tones::Toned, [f64; 3]) {
+    let clean = faults::paint(view, model, &Faults::clean()).unwrap();
+    let mut toned = faults::paint(view, model, &Faults::posterized()).unwrap();
     let samples = toned.geometry.sample_pixels(&toned.painting);
     let error = |p: &brdfpaint::images::Painting| {
         let (mut se, mut s) = (0.0, 0.0);
@@ -99,9 +99,18 @@ fn flat_tones_are_read_as_the_smooth_shading() {
     };
     let before = error(&toned.painting);
     let read = tones::smooth(&mut toned).expect("6 levels per channel are flat tones");
-    let after = error(&toned.painting);
+    let between = error(&toned.painting);
     tones::refine(&mut toned, &read);
     let refined = error(&toned.painting);
+    (read, [before, between, refined])
+}
+
+#[test]
+fn flat_tones_are_read_as_the_smooth_shading() {
+    let mut sampler = SceneSampler::new().unwrap();
+    let view = FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, 0.0).unwrap();
+    let model = Analytic::Lambert { albedo: [0.8, 0.5, 0.3] };
+    let (read, [before, after, refined]) = read_tones(&view, &model);
     eprintln!("levels {:?}: relative RMS against the clean painting {before:.4} -> {after:.4} -> {refined:.4} (through the proxy)", read.levels);
     assert!(read.levels.iter().all(|&n| n <= 6), "{:?}", read.levels);
     // Measured at 128²: 0.190 -> 0.099 between edges (levels 6, 5, 4) -> 0.018 through the
@@ -115,7 +124,7 @@ fn flat_tones_are_read_as_the_smooth_shading() {
     assert!(tones::smooth(&mut toon).is_none());
     assert_eq!(toon.painting.pixels, pixels);
     // A painted gradient is not toned.
-    let mut smooth = clean.clone();
+    let mut smooth = faults::paint(&view, &model, &Faults::clean()).unwrap();
     assert!(tones::smooth(&mut smooth).is_none());
 }
 
@@ -128,24 +137,7 @@ fn a_sharp_highlight_in_flat_tones_is_read_with_a_microfacet_lobe() {
     let mut sampler = SceneSampler::new().unwrap();
     let view = FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, 0.0).unwrap();
     let model = Analytic::Ggx { diffuse: [0.40, 0.25, 0.12], f0: [0.50, 0.42, 0.35], roughness: 0.2 };
-    let clean = faults::paint(&view, &model, &Faults::clean()).unwrap();
-    let mut toned = faults::paint(&view, &model, &Faults::posterized()).unwrap();
-    let samples = toned.geometry.sample_pixels(&toned.painting);
-    let error = |p: &brdfpaint::images::Painting| {
-        let (mut se, mut s) = (0.0, 0.0);
-        for &k in &samples {
-            for c in 0..3 {
-                se += (p.pixels[k][c] as f64 - clean.painting.pixels[k][c] as f64).powi(2);
-                s += (clean.painting.pixels[k][c] as f64).powi(2);
-            }
-        }
-        (se / s).sqrt()
-    };
-    let before = error(&toned.painting);
-    let read = tones::smooth(&mut toned).expect("flat tones");
-    let between = error(&toned.painting);
-    tones::refine(&mut toned, &read);
-    let refined = error(&toned.painting);
+    let (_, [before, between, refined]) = read_tones(&view, &model);
     let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, SIZE).unwrap()).collect();
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
     let rows = faults::measure(std::slice::from_ref(&view), &held, std::slice::from_ref(&model), &Settings::default(), &Faults::posterized(), &plain, Reading::default(), brdfpaint::factor::base::BaseChoice::Auto).unwrap();
