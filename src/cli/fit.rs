@@ -10,7 +10,7 @@ use super::Failure;
 use brdfpaint::brdf::Merl;
 use brdfpaint::error::{Error, Result};
 use brdfpaint::factor::cache::{Cache, Outcome};
-use brdfpaint::factor::base::{BaseChoice, Lobe};
+use brdfpaint::factor::base::BaseChoice;
 use brdfpaint::factor::{prepare, DifferenceChoice, Fit, Mapping, Pattern, Settings};
 use brdfpaint::litsphere;
 use brdfpaint::material::{map, Kind, Material};
@@ -313,13 +313,10 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
 fn print_base(material: &Material) {
     if let Some(b) = material.terms.first().and_then(|t| t.base) {
         let e = material.provenance.errors.unwrap_or_default();
-        let width = match b.lobe {
-            Lobe::BlinnPhong | Lobe::Phong => format!("exponent {:.1} (alpha {:.4})", Lobe::exponent(b.alpha), b.alpha),
-            Lobe::Ggx | Lobe::Ward => format!("alpha {:.4}", b.alpha),
-        };
         println!(
-            "base {}: {width}, diffuse {:.3?}, specular {:.3?}, Fresnel {:.3?}; with the product RMS {:.5}  relative {:.4}",
+            "base {}: {}, diffuse {:.3?}, specular {:.3?}, Fresnel {:.3?}; with the product RMS {:.5}  relative {:.4}",
             b.lobe.name(),
+            b.width(),
             b.diffuse,
             b.specular,
             b.fresnel,

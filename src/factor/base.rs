@@ -333,6 +333,15 @@ impl Base {
         Some((Base { ambient, diffuse: k.map(|x| x[1]), specular: k.map(|x| x[2]), fresnel: k.map(|x| x[3]), alpha, lobe }, misfit))
     }
 
+    /// The lobe's width as a user reads it: the exponent of a Blinn-Phong or Phong lobe,
+    /// $\alpha$ of a GGX or Ward one.
+    pub fn width(&self) -> String {
+        match self.lobe {
+            Lobe::BlinnPhong | Lobe::Phong => format!("exponent {:.1}", Lobe::exponent(self.alpha)),
+            Lobe::Ggx | Lobe::Ward => format!("alpha {:.4}", self.alpha),
+        }
+    }
+
     /// Checks a stored lobe: colours finite and non-negative, $0 < \alpha \le 1$ (the range
     /// the fit searches; at 0 $D$ is a delta function).
     pub fn validate(&self) -> std::result::Result<(), String> {
