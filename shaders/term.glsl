@@ -9,7 +9,7 @@
 //   NUM_FACTORS 0..6; F<k>_INPUT, F<k>_PARAM, F<k>_DOMAIN per factor and MAP_KIND name
 //   param.glsl's codes (INPUT_LIGHT, PARAM_RADIUS, DOMAIN_SPHERE, MAP_OFFSET, ...), the one
 //   place they are defined; F<k>_DIM 1 or 2; F<k>_WARP the node warp of a radius axis (a
-//   float literal, 1.0 for none); HAS_COEF 0 or 1; HAS_BASE 0 or 1; BASE_LOBE 0..3 (the
+//   float literal, 1.0 for none); HAS_COEF 0 or 1; HAS_BASE 0 or 1; BASE_LOBE 0..6 (the
 //   base lobe's family).
 // Uniforms: u_factor<k> (sampler), u_res<k> (nodes per axis), u_map_a (per-channel a),
 //   u_coef (sampler) and u_coef_size (texels per axis); with a base u_base_ambient,
@@ -39,17 +39,24 @@ uniform vec3 u_base_specular;
 uniform vec3 u_base_fresnel;
 uniform float u_base_alpha;
 
-// The analytic base, as Base::shading computes it (src/factor/base.rs):
-//   $B = a + \cos^+\theta_l (k_d + (k_s + k_f (1 - \cos\theta_d)^5) s(l, v; \alpha))$, with the
-//   specular lobe s of the family BASE_LOBE (Lobe: 0 GGX, 1 Blinn-Phong, 2 Phong, 3 Ward)
-//   and Schlick's Fresnel as two linear coefficients. GGX: D G_1 G_1 / (4 cos cos), with
-//   Smith's G_1 over 2cos (finite at grazing angles); Blinn-Phong and Phong: (n.h)^e and
-//   (r.v)^e with e = 2/alpha^2 - 2; Ward: exp(-tan^2 theta_h / alpha^2) / (4 pi alpha^2
-//   sqrt(cos cos)).
+// The analytic base, as Base::shading computes it (src/factor/base.rs, Lobe::shape):
+//   $B = a + d(l, v) k_d + (k_s + k_f (1 - \cos\theta_d)^5) s(l, v; \alpha)$, with the diffuse
+//   shading d = cos^+ theta_l (but for Ashikhmin-Shirley) and the specular shading s of the
+//   family BASE_LOBE (0 GGX, 1 Blinn-Phong, 2 Phong, 3 Ward, 4 Ashikhmin-Shirley,
+//   5 Oren-Nayar, 6 Minnaert), zero when l or v is below the horizon; Schlick's Fresnel as
+//   two linear coefficients. Exponents e = 2/alpha^2 - 2.
 vec3 term_base(Surface s) {
     float cl = s.l.z;
     float cv = s.v.z;
-    vec3 b = u_base_ambient + max(cl, 0.0) * u_base_diffuse;
+#if BASE_LOBE == 4
+    // Ashikhmin-Shirley's diffuse: cos theta_l g(cos theta_l) g(cos theta_v), g(c) = 1 - (1 - c/2)^5.
+    float gl5 = 1.0 - 0.5 * max(cl, 0.0);
+    float gv5 = 1.0 - 0.5 * max(cv, 0.0);
+    float dif = max(cl, 0.0) * (1.0 - gl5 * gl5 * gl5 * gl5 * gl5) * (1.0 - gv5 * gv5 * gv5 * gv5 * gv5);
+#else
+    float dif = max(cl, 0.0);
+#endif
+    vec3 b = u_base_ambient + dif * u_base_diffuse;
     if (cl > 0.0 && cv > 0.0) {
         float alpha = u_base_alpha;
         float a2 = alpha * alpha;
@@ -63,16 +70,29 @@ vec3 term_base(Surface s) {
         float gl = 1.0 / (cl + sqrt(a2 + (1.0 - a2) * cl * cl));
         float gv = 1.0 / (cv + sqrt(a2 + (1.0 - a2) * cv * cv));
         float lobe = cl * d * gl * gv;
-#elif BASE_LOBE == 1 || BASE_LOBE == 2
-#if BASE_LOBE == 1
-        float c = h.z;
-#else
+#elif BASE_LOBE == 1 || BASE_LOBE == 2 || BASE_LOBE == 4
+#if BASE_LOBE == 2
         float c = 2.0 * cl * cv - dot(s.l, s.v);
+#else
+        float c = h.z;
 #endif
         float lobe = c > 0.0 ? cl * pow(c, 2.0 / a2 - 2.0) : 0.0;
-#else
+#if BASE_LOBE == 4
+        lobe /= max(dot(s.l, h), 1e-12) * max(cl, cv);
+#endif
+#elif BASE_LOBE == 3
         float c2 = max(h.z * h.z, 1e-30);
         float lobe = cl * exp(-(1.0 - c2) / (c2 * a2)) / (4.0 * 3.14159265358979 * a2 * sqrt(cl * cv));
+#elif BASE_LOBE == 5
+        // Oren-Nayar's B term: cos(phi_l - phi_v)^+ sin(theta_max) tan(theta_min).
+        float pl = length(s.l.xy);
+        float pv = length(s.v.xy);
+        float cos_phi = (pl > 1e-12 && pv > 1e-12) ? max(dot(s.l.xy, s.v.xy) / (pl * pv), 0.0) : 0.0;
+        float c_max = max(cl, cv);
+        float c_min = min(cl, cv);
+        float lobe = cl * cos_phi * sqrt(max(1.0 - c_min * c_min, 0.0)) * sqrt(max(1.0 - c_max * c_max, 0.0)) / c_max;
+#else
+        float lobe = cl * pow(cl * cv, alpha - 1.0);
 #endif
         b += lobe * (u_base_specular + x5 * u_base_fresnel);
     }

@@ -371,7 +371,7 @@ fn stray_strokes_are_repainted_unless_kept() {
 /// under a rim light no painting shows (the wide suite's rim view), the based material is
 /// much closer to the truth: measured relative RMS 0.167 against 0.652 for the plain
 /// product (bounds with margin on both sides). A Blinn-Phong painting gets a Blinn-Phong
-/// lobe of its exponent, an Oren-Nayar painting none.
+/// lobe of its exponent, a velvet painting none.
 #[test]
 fn base_auto_keeps_the_lobe_of_the_paintings_family_only() {
     use brdfpaint::factor::base::Lobe;
@@ -408,7 +408,8 @@ fn base_auto_keeps_the_lobe_of_the_paintings_family_only() {
     let base = bp.terms[0].base.expect("auto keeps a Blinn-Phong lobe for a Blinn-Phong painting");
     assert!(base.lobe == Lobe::BlinnPhong && (Lobe::exponent(base.alpha) / 32.0 - 1.0).abs() < 0.05, "{base:?}");
     assert!(said.contains("base blinn-phong: exponent 3"), "{said}");
-    // An Oren-Nayar painting, which no lobe family explains, gets none.
-    let (on, _) = fit(&Analytic::OrenNayar { albedo: [0.6, 0.4, 0.3], sigma: 0.5 }, "oren-nayar", &[]);
-    assert!(on.terms[0].base.is_none(), "{:?}", on.terms[0].base);
+    // A velvet painting (a sheen lobe), which no lobe family explains, gets none.
+    let velvet = Analytic::Velvet { diffuse: [0.30, 0.05, 0.12], sheen: [0.60, 0.35, 0.50], roughness: 0.35 };
+    let (v, _) = fit(&velvet, "velvet", &[]);
+    assert!(v.terms[0].base.is_none(), "{:?}", v.terms[0].base);
 }

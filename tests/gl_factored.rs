@@ -417,12 +417,13 @@ fn frame_times_at_1024() {
 /// test scene (back light and grazing views included, where the lobe's Fresnel, masking
 /// and grazing rise matter). The lobe is evaluated in f32 on the GPU; measured worst 1.5e-5
 /// relative to max(|expected|, 1) for GGX at α = 0.15, within the tables' tolerance; the
-/// Blinn-Phong and Phong widths give exponents 87 and 8, Ward's a narrow Gaussian.
+/// Blinn-Phong, Phong and Ashikhmin-Shirley widths give exponents 87, 8 and 20, Ward's a
+/// narrow Gaussian, Minnaert's k = 0.75 a brightening limb; Oren-Nayar has no width.
 #[test]
 fn a_term_over_an_analytic_base_matches_the_cpu() {
     use brdfpaint::factor::base::{Base, Lobe};
     let ctx = HeadlessContext::new().unwrap();
-    for (lobe, alpha) in [(Lobe::Ggx, 0.15), (Lobe::BlinnPhong, 0.15), (Lobe::Phong, 0.45), (Lobe::Ward, 0.2)] {
+    for (lobe, alpha) in Lobe::ALL.into_iter().zip([0.15, 0.15, 0.45, 0.2, 0.3, 1.0, 0.75]) {
         let base = Base { ambient: [0.02, 0.03, 0.01], diffuse: [0.5, 0.3, 0.2], specular: [0.4, 0.5, 0.6], fresnel: [0.6, 0.5, 0.3], alpha, lobe };
         let factors = vec![
             random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 33), 7),

@@ -209,11 +209,25 @@ pub enum Lobe {
     /// \sqrt{\cos\theta_l\cos\theta_v})$, a Gaussian highlight with a milder rise at
     /// grazing angles than the microfacet lobe's.
     Ward,
+    /// Isotropic Ashikhmin-Shirley (2000): $\cos\theta_l\,(\mathbf n\cdot\mathbf h)^e /
+    /// ((\mathbf h\cdot\mathbf l)\max(\cos\theta_l, \cos\theta_v))$, with its own diffuse
+    /// shape in place of Lambert's, $\cos\theta_l\, g(\cos\theta_l)\, g(\cos\theta_v)$, $g(c)
+    /// = 1 - (1 - c/2)^5$ (its Schlick Fresnel is the linear $k_s + k_f x^5$ as for the
+    /// others, and its $(1 - R_s)$ is in $k_d$).
+    AshikhminShirley,
+    /// Oren-Nayar's rough diffuse (qualitative model, 1994): Lambert ($k_d$, their $A$) plus
+    /// $\cos\theta_l \max(0, \cos(\phi_l - \phi_v)) \sin\max(\theta_l, \theta_v)
+    /// \tan\min(\theta_l, \theta_v)$ (their $B$ term, as $k_s$): the retro-reflection of
+    /// clay, plaster and cloth. No width: $\sigma$ is in the ratio of the two coefficients.
+    OrenNayar,
+    /// Minnaert's limb darkening (1941): $\cos\theta_l\,(\cos\theta_l\cos\theta_v)^{k - 1}$
+    /// with $k = \alpha$ (1 is Lambert), for the moon's flat disk and velvet.
+    Minnaert,
 }
 
 impl Lobe {
     /// Every family, in the order a fit tries them (the first wins a tie).
-    pub const ALL: [Lobe; 4] = [Lobe::Ggx, Lobe::BlinnPhong, Lobe::Phong, Lobe::Ward];
+    pub const ALL: [Lobe; 7] = [Lobe::Ggx, Lobe::BlinnPhong, Lobe::Phong, Lobe::Ward, Lobe::AshikhminShirley, Lobe::OrenNayar, Lobe::Minnaert];
 
     /// The name in `material.json` and in `fit`'s output.
     pub fn name(self) -> &'static str {
@@ -222,51 +236,73 @@ impl Lobe {
             Lobe::BlinnPhong => "blinn-phong",
             Lobe::Phong => "phong",
             Lobe::Ward => "ward",
+            Lobe::AshikhminShirley => "ashikhmin-shirley",
+            Lobe::OrenNayar => "oren-nayar",
+            Lobe::Minnaert => "minnaert",
         }
     }
 
-    /// The Blinn-Phong and Phong exponent of width $\alpha$: $2/\alpha^2 - 2$.
+    /// The Blinn-Phong, Phong and Ashikhmin-Shirley exponent of width $\alpha$: $2/\alpha^2 - 2$.
     pub fn exponent(alpha: f64) -> f64 {
         2.0 / (alpha * alpha) - 2.0
     }
 
-    /// The lobe's specular shading at unit $k_s$ and Schlick's $(1 - \cos\theta_d)^5$
-    /// (see [`specular_shape`] for GGX); both zero when either direction is at or below the
-    /// horizon.
-    pub fn shape(self, l: DVec3, v: DVec3, alpha: f64) -> (f64, f64) {
+    /// Whether the family has a width to search (Oren-Nayar has none).
+    pub fn has_width(self) -> bool {
+        self != Lobe::OrenNayar
+    }
+
+    /// The lobe's diffuse shading at unit $k_d$ ($\cos^+\theta_l$, but for
+    /// Ashikhmin-Shirley), its specular shading at unit $k_s$, and Schlick's $(1 -
+    /// \cos\theta_d)^5$; the last two zero when either direction is at or below the horizon.
+    pub fn shape(self, l: DVec3, v: DVec3, alpha: f64) -> (f64, f64, f64) {
         let (cl, cv) = (l.z, v.z);
         if cl <= 0.0 || cv <= 0.0 {
-            return (0.0, 0.0);
+            // Ashikhmin-Shirley's diffuse has g(cos θ_v) = 0 at the horizon and below.
+            let lambert = if self == Lobe::AshikhminShirley { 0.0 } else { cl.max(0.0) };
+            return (lambert, 0.0, 0.0);
         }
-        match self {
-            Lobe::Ggx => specular_shape(l, v, alpha),
-            Lobe::BlinnPhong | Lobe::Phong => {
-                // Both above the horizon, so l + v != 0.
-                let h = (l + v).normalize();
-                let x = 1.0 - l.dot(h).clamp(0.0, 1.0);
-                // r.v = 2 (n.l)(n.v) - l.v (symmetric in l and v).
-                let c = if self == Lobe::BlinnPhong { h.z } else { 2.0 * cl * cv - l.dot(v) };
-                // 0 at c = 0 even for the exponent 0 of α = 1, as the shader's pow is taken.
-                (if c > 0.0 { cl * c.powf(Lobe::exponent(alpha)) } else { 0.0 }, x.powi(5))
-            }
+        // Both above the horizon, so l + v != 0.
+        let h = (l + v).normalize();
+        let x5 = (1.0 - l.dot(h).clamp(0.0, 1.0)).powi(5);
+        // 0 at c = 0 even for the exponent 0 of α = 1, as the shader's pow is taken.
+        let power = |c: f64, e: f64| if c > 0.0 { c.powf(e) } else { 0.0 };
+        let (diffuse, spec) = match self {
+            Lobe::Ggx => (cl, specular_shape(l, v, alpha).0),
+            Lobe::BlinnPhong => (cl, cl * power(h.z, Lobe::exponent(alpha))),
+            // r.v = 2 (n.l)(n.v) - l.v (symmetric in l and v).
+            Lobe::Phong => (cl, cl * power(2.0 * cl * cv - l.dot(v), Lobe::exponent(alpha))),
             Lobe::Ward => {
-                let h = (l + v).normalize();
-                let x = 1.0 - l.dot(h).clamp(0.0, 1.0);
                 // tan²θ_h = (1 - cos²)/cos²; h.z > 0 for directions above the horizon.
                 let c2 = (h.z * h.z).max(1e-300);
                 let a2 = alpha * alpha;
-                (cl * (-(1.0 - c2) / (c2 * a2)).exp() / (4.0 * PI * a2 * (cl * cv).sqrt()), x.powi(5))
+                (cl, cl * (-(1.0 - c2) / (c2 * a2)).exp() / (4.0 * PI * a2 * (cl * cv).sqrt()))
             }
-        }
+            Lobe::AshikhminShirley => {
+                let g = |c: f64| 1.0 - (1.0 - c / 2.0).powi(5);
+                // h.l = |l + v|/2 > 0 above the horizon.
+                (cl * g(cl) * g(cv), cl * power(h.z, Lobe::exponent(alpha)) / (l.dot(h).max(1e-12) * cl.max(cv)))
+            }
+            Lobe::OrenNayar => {
+                // cos(φ_l − φ_v) from the tangent-plane projections (0 where one is the normal,
+                // where the sine or tangent below is 0 anyway). θ_max has the smaller cosine:
+                // sin θ_max = √(1 − c_min²), tan θ_min = √(1 − c_max²)/c_max.
+                let (pl, pv) = (l.x.hypot(l.y), v.x.hypot(v.y));
+                let cos_phi = if pl > 1e-12 && pv > 1e-12 { ((l.x * v.x + l.y * v.y) / (pl * pv)).max(0.0) } else { 0.0 };
+                let (c_max, c_min) = (cl.max(cv), cl.min(cv));
+                (cl, cl * cos_phi * (1.0 - c_min * c_min).max(0.0).sqrt() * (1.0 - c_max * c_max).max(0.0).sqrt() / c_max)
+            }
+            Lobe::Minnaert => (cl, cl * (cl * cv).powf(alpha - 1.0)),
+        };
+        (diffuse, spec, x5)
     }
 }
 
 impl Base {
     /// $B(l, v)$ per channel (see the module documentation).
     pub fn shading(&self, q: &Query) -> [f64; 3] {
-        let cl = q.l.z.max(0.0);
-        let (s, x5) = self.lobe.shape(q.l, q.v, self.alpha);
-        [0, 1, 2].map(|c| self.ambient[c] + cl * self.diffuse[c] + s * (self.specular[c] + x5 * self.fresnel[c]))
+        let (d, s, x5) = self.lobe.shape(q.l, q.v, self.alpha);
+        [0, 1, 2].map(|c| self.ambient[c] + d * self.diffuse[c] + s * (self.specular[c] + x5 * self.fresnel[c]))
     }
 
     /// Fit the lobe to values on a pattern: $\alpha$ by search, the rest by
@@ -288,6 +324,21 @@ impl Base {
             return None;
         }
         let (_, delta) = softening(values)?;
+        let alpha = if lobe.has_width() { Base::search_width(pattern, values, delta, lobe)? } else { 1.0 };
+        // The colours from every sample up to [`FIT_SAMPLES`] (every k-th beyond).
+        let fitted = fitted_samples(pattern.len());
+        let (res, k, penalty) = linear_fit(pattern, values, &fitted, delta, lobe, alpha);
+        let res = (res - penalty).max(0.0);
+        // The misfit relative to the weighted values: $\sqrt{\sum w (B - S)^2 / \sum w S^2}$
+        // (the data's part of the objective; the ridge's penalty is no misfit).
+        let misfit = (res / weighted_energy(values, &fitted, delta).max(f64::MIN_POSITIVE)).sqrt();
+        let ambient = k.map(|x| x[0]);
+        Some((Base { ambient, diffuse: k.map(|x| x[1]), specular: k.map(|x| x[2]), fresnel: k.map(|x| x[3]), alpha, lobe }, misfit))
+    }
+
+    /// The width of `lobe` that fits `values` best: a log grid of [`ALPHAS`] on every k-th
+    /// sample up to [`SEARCH_SAMPLES`], refined by golden section.
+    fn search_width(pattern: &Pattern, values: &[[f64; 3]], delta: [f64; 3], lobe: Lobe) -> Option<f64> {
         let stride = pattern.len().div_ceil(SEARCH_SAMPLES).max(1);
         let search: Vec<usize> = (0..pattern.len()).step_by(stride).collect();
         let mut best: Option<(f64, f64)> = None; // (residual, alpha)
@@ -321,24 +372,19 @@ impl Base {
                 f2 = at(x2);
             }
         }
-        let alpha = if at(alpha.ln()) <= f1.min(f2) { alpha } else if f1 < f2 { x1.exp() } else { x2.exp() };
-        // The colours from every sample up to [`FIT_SAMPLES`] (every k-th beyond).
-        let fitted = fitted_samples(pattern.len());
-        let (res, k, penalty) = linear_fit(pattern, values, &fitted, delta, lobe, alpha);
-        let res = (res - penalty).max(0.0);
-        // The misfit relative to the weighted values: $\sqrt{\sum w (B - S)^2 / \sum w S^2}$
-        // (the data's part of the objective; the ridge's penalty is no misfit).
-        let misfit = (res / weighted_energy(values, &fitted, delta).max(f64::MIN_POSITIVE)).sqrt();
-        let ambient = k.map(|x| x[0]);
-        Some((Base { ambient, diffuse: k.map(|x| x[1]), specular: k.map(|x| x[2]), fresnel: k.map(|x| x[3]), alpha, lobe }, misfit))
+        Some(if at(alpha.ln()) <= f1.min(f2) { alpha } else if f1 < f2 { x1.exp() } else { x2.exp() })
     }
 
-    /// The lobe's width as a user reads it: the exponent of a Blinn-Phong or Phong lobe,
-    /// $\alpha$ of a GGX or Ward one.
+    /// The lobe's width as a user reads it: the exponent of a Blinn-Phong, Phong or
+    /// Ashikhmin-Shirley lobe, $\alpha$ of a GGX or Ward one, Minnaert's $k$, Oren-Nayar's
+    /// $B/A$ (which says $\sigma$).
     pub fn width(&self) -> String {
         match self.lobe {
-            Lobe::BlinnPhong | Lobe::Phong => format!("exponent {:.1}", Lobe::exponent(self.alpha)),
+            Lobe::BlinnPhong | Lobe::Phong | Lobe::AshikhminShirley => format!("exponent {:.1}", Lobe::exponent(self.alpha)),
             Lobe::Ggx | Lobe::Ward => format!("alpha {:.4}", self.alpha),
+            Lobe::Minnaert => format!("k {:.3}", self.alpha),
+            // σ is in the ratio of the B term to the A term (Lambert).
+            Lobe::OrenNayar => format!("B/A {:.3}", self.specular[1] / self.diffuse[1].max(1e-12)),
         }
     }
 
@@ -418,8 +464,8 @@ fn linear_fit(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64
     let mut ss = [0.0f64; 3];
     for &i in idx {
         let q = &pattern.queries[i];
-        let (spec, x5) = lobe.shape(q.l, q.v, alpha);
-        let x = [1.0, q.l.z.max(0.0), spec, spec * x5];
+        let (diffuse, spec, x5) = lobe.shape(q.l, q.v, alpha);
+        let x = [1.0, diffuse, spec, spec * x5];
         for c in 0..3 {
             let s = values[i][c];
             let w = 1.0 / (s + delta[c]).powi(2);
@@ -626,9 +672,10 @@ mod tests {
         assert!(e < 0.1, "relative RMS of the base alone {e}");
     }
 
-    /// Each family's truth is told from the others and recovered: the suite's Blinn-Phong,
-    /// Phong (exponents 32 and 50: α = √(2/(e + 2))), Ward and GGX spheres from two views
-    /// get their own lobe, their width within 2% and a misfit near zero.
+    /// Each family's truth is told from the others and recovered: Blinn-Phong, Phong and
+    /// Ashikhmin-Shirley (exponents 32, 50 and 100: α = √(2/(e + 2))), Ward, GGX,
+    /// Oren-Nayar and Minnaert spheres from two views get their own lobe, their width within
+    /// 2% and a misfit near zero; Oren-Nayar's σ = 0.5 comes back in its B/A.
     #[test]
     fn every_lobe_family_is_recovered_from_its_truth() {
         let views: Vec<_> = [DVec3::new(0.3, 0.4, 1.0), DVec3::new(-0.6, 0.2, 0.8)].iter().map(|&l| SphereView::new(l, 64)).collect();
@@ -638,12 +685,21 @@ mod tests {
             (Analytic::Phong { diffuse: [0.4, 0.3, 0.2], specular: [0.5; 3], exponent: 50.0 }, Lobe::Phong, (2.0f64 / 52.0).sqrt()),
             (Analytic::Ward { diffuse: [0.4, 0.3, 0.2], specular: [0.3; 3], alpha: 0.2 }, Lobe::Ward, 0.2),
             (Analytic::ggx_alpha([0.40, 0.25, 0.12], [0.5, 0.5, 0.5], 0.04), Lobe::Ggx, 0.04),
+            (Analytic::AshikhminShirley { diffuse: [0.5, 0.3, 0.15], specular: [0.1, 0.12, 0.15], exponent: 100.0 }, Lobe::AshikhminShirley, (2.0f64 / 102.0).sqrt()),
+            // Oren-Nayar has no width (its σ is in B/A); the fit's nominal width is 1.
+            (Analytic::OrenNayar { albedo: [0.6, 0.4, 0.3], sigma: 0.5 }, Lobe::OrenNayar, 1.0),
+            (Analytic::Minnaert { albedo: [0.6, 0.4, 0.3], k: 0.75 }, Lobe::Minnaert, 0.75),
         ];
         for (truth, lobe, alpha) in cases {
             let values = pattern.shade(|q| truth.shading(q));
             let (base, misfit) = Base::fit_any(&pattern, &values).expect("a fit");
             assert_eq!(base.lobe, lobe, "{}", truth.name());
             assert!((base.alpha / alpha - 1.0).abs() < 0.02 && misfit < 1e-3, "{}: alpha {} for {alpha}, misfit {misfit}", truth.name(), base.alpha);
+            if lobe == Lobe::OrenNayar {
+                // A = 1 − 0.5σ²/(σ² + 0.33), B = 0.45σ²/(σ² + 0.09) at σ = 0.5: B/A = 0.4132.
+                let (a, b) = (1.0 - 0.5 * 0.25 / 0.58, 0.45 * 0.25 / 0.34);
+                assert!((base.specular[1] / base.diffuse[1] - b / a).abs() < 1e-3, "{base:?}");
+            }
         }
     }
 
