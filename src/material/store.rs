@@ -30,8 +30,9 @@ pub const FORMAT: &str = "brdfpaint-material";
 /// (`difference`, `half-difference` with the `radii` parameterization) and the node warp of
 /// radius tables (`warp`, absent when 1). Version 3 added a term's analytic base (`base`:
 /// ambient, diffuse, specular and Fresnel per channel, the GGX width `alpha`; absent without
-/// one). Version 4 added the base lobe's family (`lobe`: `ggx`, `blinn-phong`, `phong` or
-/// `ward`), which a version 3 reader would ignore and draw as GGX.
+/// one). Version 4 added the base lobe's family (`lobe`: `ggx`, `blinn-phong`, `phong`,
+/// `ward`, `ashikhmin-shirley`, `oren-nayar` or `minnaert`), which a version 3 reader would
+/// ignore and draw as GGX.
 pub const VERSION: u32 = 4;
 /// The versions this build reads: version 1 files are version 2 files without those
 /// (every factor unwarped), version 2 files are version 3 files without bases, version 3
