@@ -117,10 +117,11 @@ pub(super) struct FitArgs {
     #[arg(long, default_value = "auto")]
     mapping: Mapping,
     /// An analytic base under the product of a uniform fit (the product is fitted to
-    /// S / B): auto (a GGX lobe when it fits the paintings as closely as their brush texture and
-    /// noise allow, else none), none
-    /// (the thesis's product), ggx (always; better on measured materials, BENCHMARKS.md).
-    /// Material maps, hybrids and lit spheres fit no base.
+    /// S / B): auto (the lobe of the classic family, GGX, Blinn-Phong, Phong, Ward,
+    /// Ashikhmin-Shirley, Oren-Nayar or Minnaert, that fits the paintings as closely as their
+    /// brush texture and noise allow, else none), none (the thesis's product), ggx (a GGX
+    /// lobe always; better on measured materials, BENCHMARKS.md). Material maps, hybrids and
+    /// lit spheres fit no base.
     #[arg(long, default_value = "auto")]
     base: BaseChoice,
     /// Pixels removed along the silhouette: a pixel within N steps (8-neighbourhood) of the

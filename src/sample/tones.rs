@@ -141,10 +141,11 @@ type Site = (usize, [f64; proxy::BASIS], [f64; 3], [[f64; 2]; 3]);
 /// sphere wide); where it does not, the interpolation stays.
 ///
 /// A channel with three or four levels does not pin seven functions down, so the shape is
-/// read from the luminance first (its lobe from the Blinn-Phong lobes, or a microfacet lobe
-/// where those cannot hold the tones: [`microfacet`]) (whose intervals are narrow: it mixes every channel's
-/// edges, and one material's channels share their shading), and each channel then fits only
-/// its own ambient, diffuse, cool-side and highlight weights on that shape.
+/// read from the luminance first, whose intervals are narrow (it mixes every channel's edges,
+/// and one material's channels share their shading): its highlight from the Blinn-Phong
+/// lobes, or from a microfacet lobe where those cannot hold the tones ([`microfacet`]). Each
+/// channel then fits only its own ambient, diffuse, cool-side and highlight weights on that
+/// shape.
 pub fn refine(view: &mut PaintedView, toned: &Toned) {
     const Y: [f64; 3] = [0.2126, 0.7152, 0.0722];
     let geometry: Vec<Site> = toned
@@ -237,7 +238,7 @@ fn outside<const N: usize>(points: &[([f64; N], [f64; 2])], start: &[f64], x: &[
         r += (w * d).powi(2);
         t += (w * s).powi(2);
     }
-    r / t.max(f64::MIN_POSITIVE)
+    (r / t.max(f64::MIN_POSITIVE)).sqrt()
 }
 
 /// The luminance's tones read with a microfacet lobe instead of the Blinn-Phong lobes:
@@ -256,7 +257,7 @@ fn microfacet(
 ) -> Option<([f64; 4], f64)> {
     let blinn: Vec<([f64; 4], [f64; 2])> =
         luminance.iter().map(|(b, i)| ([b[0], b[1], b[2], (3..proxy::BASIS).map(|j| shape[j] * b[j]).sum()], *i)).collect();
-    let held = outside(&blinn, start, &[shape[0], shape[1], shape[2], 1.0]).sqrt();
+    let held = outside(&blinn, start, &[shape[0], shape[1], shape[2], 1.0]);
     if held <= LOBE_FLOOR {
         return None;
     }
@@ -290,7 +291,7 @@ fn microfacet(
     let all: Vec<usize> = (0..luminance.len()).collect();
     let pts = points(alpha, &all);
     let (x, _) = proxy::fit_within(&pts, start)?;
-    (outside(&pts, start, &x).sqrt() <= LOBE_GAIN * held).then_some((x, alpha))
+    (outside(&pts, start, &x) <= LOBE_GAIN * held).then_some((x, alpha))
 }
 
 /// [`microfacet`] reads the tones only where the Blinn-Phong lobes leave the intervals by more
