@@ -18,8 +18,9 @@
 //! another classic family ([`Lobe`]: Blinn-Phong, Phong, Ward, Ashikhmin-Shirley, whose
 //! diffuse shape replaces $\cos^+\theta_l$ too, and the rough-diffuse terms of Oren-Nayar
 //! and Minnaert), each with at most one width $\alpha$; `auto` fits every family and keeps
-//! the one that explains the samples best, when it explains them ([`choose`]). Schlick's Fresnel $F = F_0 + (1 - F_0)(1 -
-//! \cos\theta_d)^5$ times a scale $k$ is $k_s + k_f (1 - \cos\theta_d)^5$ with $k_s = k F_0$,
+//! the one that explains the samples best, when it explains them ([`choose`]). Schlick's
+//! Fresnel $F = F_0 + (1 - F_0)(1 - \cos\theta_d)^5$ times a scale $k$ is $k_s + k_f (1 -
+//! \cos\theta_d)^5$ with $k_s = k F_0$,
 //! $k_f = k(1 - F_0)$: linear in both, so every channel has its own $F_0$ at no search cost.
 //! $a$, $k_d$, $k_s$, $k_f \ge 0$ come from a weighted non-negative linear least-squares fit,
 //! $\alpha$ (shared by the channels) from a one-dimensional search. $k_f$ is ridged toward
@@ -114,8 +115,9 @@ pub struct Base {
     pub specular: [f64; 3],
     /// Fresnel $k_f$, what grazing $\theta_d$ adds (Schlick's $k (1 - F_0)$); 0 for none.
     pub fresnel: [f64; 3],
-    /// GGX width $\alpha$ (= roughness²); of the other lobes, their exponent
-    /// ([`Lobe::exponent`]).
+    /// The lobe's width $\alpha \in (0, 1]$: GGX's and Ward's $\alpha$, the Blinn-Phong,
+    /// Phong and Ashikhmin-Shirley exponent through [`Lobe::exponent`], Minnaert's $k$;
+    /// unused by Oren-Nayar (1).
     pub alpha: f64,
     /// The specular lobe's family (GGX unless told: version 3 files have only GGX).
     #[serde(default)]
@@ -191,9 +193,10 @@ pub fn specular_shape(l: DVec3, v: DVec3, alpha: f64) -> (f64, f64) {
     (cl * ggx_d(h.z, alpha) * g1_over_2cos(cl, alpha) * g1_over_2cos(cv, alpha), x.powi(5))
 }
 
-/// The shape of a base's specular lobe. One width $\alpha \in (0, 1]$ serves every family:
-/// the Blinn-Phong and Phong exponents are $e = 2/\alpha^2 - 2$, the usual correspondence
-/// of a Blinn-Phong lobe with a Beckmann (and, near its peak, GGX) lobe of width $\alpha$.
+/// The family of a base's lobe. One width $\alpha \in (0, 1]$ serves every family that has
+/// one: the Blinn-Phong, Phong and Ashikhmin-Shirley exponents are $e = 2/\alpha^2 - 2$, the
+/// usual correspondence of a Blinn-Phong lobe with a Beckmann (and, near its peak, GGX) lobe
+/// of width $\alpha$; Minnaert's $k$ is $\alpha$; Oren-Nayar has none.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Lobe {
@@ -595,15 +598,19 @@ impl BasedFit {
 /// [`Mapping::Auto`] each mapping is tried and the one with the lowest RMS on $S$ (not on
 /// the ratio) kept, `inverted` only for a clear gain, as [`Prepared::solve`] does.
 pub fn solve_based(prepared: &Prepared, pattern: &Pattern, values: &[[f64; 3]], mapping: Mapping, choice: BaseChoice) -> Result<BasedFit> {
-    if choice == BaseChoice::None {
-        return Ok(BasedFit { base: None, fit: prepared.solve(values, mapping)? });
-    }
-    let plain = prepared.solve(values, mapping)?;
-    let product = misfit(values, &prepared.predict(&plain.tables, &plain.map));
+    // Only `auto` judges the lobe against the free product, so only it needs that fit first.
+    let plain = if choice == BaseChoice::Auto { Some(prepared.solve(values, mapping)?) } else { None };
+    let product = plain.as_ref().map_or(0.0, |fit| product_misfit(prepared, values, fit));
     match choose(pattern, values, choice, product) {
         Some(base) => solve_on_base(prepared, pattern, values, mapping, &base),
-        None => Ok(BasedFit { base: None, fit: plain }),
+        None => Ok(BasedFit { base: None, fit: match plain { Some(fit) => fit, None => prepared.solve(values, mapping)? } }),
     }
+}
+
+/// The free product's [`misfit`] on the values it was fitted to (`fit`, solved on
+/// `prepared`): the painting's roughness that [`choose`] credits under `auto`.
+pub fn product_misfit(prepared: &Prepared, values: &[[f64; 3]], fit: &Fit) -> f64 {
+    misfit(values, &prepared.predict(&fit.tables, &fit.map))
 }
 
 /// The lobe `choice` gives for `values` on `pattern`: none for `none`; for `auto`, the lobe

@@ -215,11 +215,8 @@ impl Material {
         choice: crate::factor::base::BaseChoice,
         provenance: Provenance,
     ) -> Result<Option<Material>> {
-        use crate::factor::base::{choose, misfit, BaseChoice};
-        let product = match choice {
-            BaseChoice::Auto => misfit(values, &prepared.predict(&plain.tables, &plain.map)),
-            _ => 0.0,
-        };
+        use crate::factor::base::{choose, product_misfit, BaseChoice};
+        let product = if choice == BaseChoice::Auto { product_misfit(prepared, values, plain) } else { 0.0 };
         // No lobe, no second solve: the plain fit stands.
         let Some(base) = choose(pattern, values, choice, product) else {
             return Ok(None);
