@@ -24,8 +24,9 @@ use crate::error::{Error, Result};
 /// Which EGL device to open.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum DevicePreference {
-    /// Mesa's software rasterizer (`EGL_MESA_device_software`, llvmpipe). The default, so that
-    /// tests produce the same pixels on every machine.
+    /// Mesa's software rasterizer (`EGL_MESA_device_software`, llvmpipe), else a hardware
+    /// device. The default, so that tests produce the same pixels on every machine that has
+    /// Mesa; a machine with a GPU driver and no Mesa (a GPU server) still renders, on its GPU.
     #[default]
     Software,
     /// A hardware device when one exists, else the software one.
@@ -118,7 +119,8 @@ pub struct HeadlessContext {
 
 impl HeadlessContext {
     /// A context on the software device (llvmpipe), so results agree everywhere, unless the
-    /// environment says `BRDFPAINT_GL_DEVICE=hardware` (how the GL tests are run on a GPU).
+    /// environment says `BRDFPAINT_GL_DEVICE=hardware` (how the GL tests are run on a GPU);
+    /// on a machine without Mesa, on a hardware device ([`DevicePreference::Software`]).
     pub fn new() -> Result<Self> {
         let hardware = std::env::var("BRDFPAINT_GL_DEVICE").is_ok_and(|v| v.eq_ignore_ascii_case("hardware"));
         Self::with_preference(if hardware { DevicePreference::Hardware } else { DevicePreference::Software })
@@ -153,7 +155,7 @@ impl HeadlessContext {
         // Candidates in order of preference; a device that fails to open is skipped.
         let (software, hardware): (Vec<&Device>, Vec<&Device>) = devices.iter().partition(|d| is_software(d));
         let candidates: Vec<&Device> = match preference {
-            DevicePreference::Software => software,
+            DevicePreference::Software => software.into_iter().chain(hardware).collect(),
             DevicePreference::Hardware => hardware.into_iter().chain(software).collect(),
         };
         if candidates.is_empty() {
