@@ -201,7 +201,10 @@ pub fn read(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading)
         }
     }
     for (i, t) in &toned {
-        tones::refine(&mut views[*i], t);
+        if let Some((lobe, alpha)) = tones::refine(&mut views[*i], t) {
+            let width = if lobe.has_width() { format!(" ({})", lobe.width_of(alpha)) } else { String::new() };
+            notes.push(format!("{}: its tones are held best by the {} lobe{width}: read through it", views[*i].name, lobe.name()));
+        }
     }
     Ok(notes)
 }

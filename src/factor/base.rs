@@ -73,7 +73,13 @@ pub const RATIO_SOFTENING: f64 = 0.001;
 /// view went 0.17 → 3.8). An 8-bit PNG painting of a GGX sphere (front and side light,
 /// unclipped) measures 0.013, its quantization included (`tests/fit_cli.rs`; the
 /// quantization is roughness the product misses too, so [`excess`] widens the margin there).
-pub const AUTO_MISFIT: f64 = 0.015;
+/// 0.025 rather than 0.015 (November 2026): brush texture leaves a painting's own family
+/// about 0.02 beyond the product, which absorbs some of it in rings (faults study, brush:
+/// GGX 0.7 0.089 → 0.032, Minnaert 0.078 → 0.033 with the lobe kept); on MERL `auto` keeps a
+/// lobe for 30 / 23 / 32 materials (19 / 13 / 31 at 0.015), medians 0.2688 → 0.2514, 0.1647
+/// → 0.1614, 0.1304 → 0.1221, none worse than the plain product by 10%; the wide suite is
+/// unchanged. The models of no family stay 0.039 and more beyond.
+pub const AUTO_MISFIT: f64 = 0.025;
 
 /// The GGX widths $\alpha$ the fit tries: log-spaced from a near mirror to fully rough.
 const ALPHAS: usize = 28;
@@ -252,6 +258,17 @@ impl Lobe {
         2.0 / (alpha * alpha) - 2.0
     }
 
+    /// Width $\alpha$ as a user reads it: the exponent, $\alpha$ or $k$ of the family.
+    pub fn width_of(self, alpha: f64) -> String {
+        match self {
+            Lobe::BlinnPhong | Lobe::Phong | Lobe::AshikhminShirley => format!("exponent {:.1}", Lobe::exponent(alpha)),
+            Lobe::Ggx | Lobe::Ward => format!("alpha {alpha:.4}"),
+            Lobe::Minnaert => format!("k {alpha:.3}"),
+            // σ is in the weights ([`Base::width`]).
+            Lobe::OrenNayar => String::new(),
+        }
+    }
+
     /// Whether the family has a width to search (Oren-Nayar has none).
     pub fn has_width(self) -> bool {
         self != Lobe::OrenNayar
@@ -385,11 +402,9 @@ impl Base {
     /// $B/A$ (which says $\sigma$).
     pub fn width(&self) -> String {
         match self.lobe {
-            Lobe::BlinnPhong | Lobe::Phong | Lobe::AshikhminShirley => format!("exponent {:.1}", Lobe::exponent(self.alpha)),
-            Lobe::Ggx | Lobe::Ward => format!("alpha {:.4}", self.alpha),
-            Lobe::Minnaert => format!("k {:.3}", self.alpha),
             // σ is in the ratio of the B term to the A term (Lambert).
             Lobe::OrenNayar => format!("B/A {:.3}", self.specular[1] / self.diffuse[1].max(1e-12)),
+            lobe => lobe.width_of(self.alpha),
         }
     }
 
