@@ -70,7 +70,7 @@ pub struct Turn {
 
 impl Turn {
     /// The scene's light, kept.
-    fn kept(score: f64) -> Turn {
+    pub(crate) fn kept(score: f64) -> Turn {
         Turn { rotation: DQuat::IDENTITY, degrees: 0.0, before: score, after: score }
     }
 

@@ -133,6 +133,57 @@ const FEW_LEVELS: usize = 3;
 /// A toned sample for [`refine`]: pixel, proxy basis, light delivered, intervals.
 type Site = (usize, [f64; proxy::BASIS], [f64; 3], [[f64; 2]; 3]);
 
+/// The luminance's tones of a toned view under its geometry's light, and how well the
+/// proxy and the best lobe family hold them.
+struct Luminance {
+    geometry: Vec<Site>,
+    shape: [f64; proxy::BASIS],
+    family: Option<Family>,
+    /// How far the proxy's Blinn-Phong lobes leave the intervals ([`outside`]).
+    proxy_outside: f64,
+}
+
+fn luminance(view: &PaintedView, toned: &Toned) -> Option<Luminance> {
+    const Y: [f64; 3] = [0.2126, 0.7152, 0.0722];
+    let geometry: Vec<Site> = toned
+        .bounds
+        .iter()
+        .filter(|&&(k, _)| view.geometry.usable[k])
+        .filter_map(|&(k, b)| {
+            let px = view.geometry.pixels[k].as_ref()?;
+            Some((k, proxy::basis(px.query.l, px.query.v), px.light, b))
+        })
+        .collect();
+    // The shape, from the luminance: S(l, v) times the luminance the light delivers.
+    let luminance: Vec<([f64; proxy::BASIS], [f64; 2])> = geometry
+        .iter()
+        .map(|(_, b, light, bounds)| {
+            let e: f64 = (0..3).map(|c| Y[c] * light[c]).sum();
+            let lo: f64 = (0..3).map(|c| Y[c] * bounds[c][0]).sum();
+            let hi: f64 = (0..3).map(|c| Y[c] * bounds[c][1]).sum();
+            (b.map(|x| x * e), [lo, hi])
+        })
+        .collect();
+    let start: Vec<f64> = geometry.iter().map(|&(k, ..)| (0..3).map(|c| Y[c] * view.painting.pixels[k][c] as f64).sum()).collect();
+    let (shape, _) = proxy::fit_within(&luminance, &start)?;
+    let blinn: Vec<([f64; 4], [f64; 2])> =
+        luminance.iter().map(|(b, i)| ([b[0], b[1], b[2], (3..proxy::BASIS).map(|j| shape[j] * b[j]).sum()], *i)).collect();
+    let proxy_outside = outside(&blinn, &start, &[shape[0], shape[1], shape[2], 1.0]);
+    let family = family(view, &geometry, &luminance, &start);
+    Some(Luminance { geometry, shape, family, proxy_outside })
+}
+
+/// How far the best reading of a toned view (the proxy's or a lobe family's) leaves the
+/// tone intervals under the view's light ([`outside`], relative); `None` when there is
+/// nothing to read. The tones are the painting's evidence: where the edges between them lie
+/// is what the painter put down, unlike the interpolation between them ([`smooth`]), so a
+/// light registered on the interpolation is checked on this
+/// ([`crate::pipeline::read`]).
+pub fn held(view: &PaintedView, toned: &Toned) -> Option<f64> {
+    let l = luminance(view, toned)?;
+    Some(l.family.map_or(l.proxy_outside, |f| f.outside.min(l.proxy_outside)))
+}
+
 /// Reads a toned view through the physical proxy ([`super::proxy`]) or a lobe family
 /// ([`family`]; returned with its width when it is the one read through), once its light is
 /// known (registered): the proxy shading closest to the painting's intervals
@@ -148,33 +199,12 @@ type Site = (usize, [f64; proxy::BASIS], [f64; 3], [[f64; 2]; 3]);
 /// channel then fits only its own ambient, diffuse, cool-side and highlight weights on that
 /// shape.
 pub fn refine(view: &mut PaintedView, toned: &Toned) -> Option<(Lobe, f64)> {
-    const Y: [f64; 3] = [0.2126, 0.7152, 0.0722];
-    let geometry: Vec<Site> = toned
-        .bounds
-        .iter()
-        .filter(|&&(k, _)| view.geometry.usable[k])
-        .filter_map(|&(k, b)| {
-            let px = view.geometry.pixels[k].as_ref()?;
-            Some((k, proxy::basis(px.query.l, px.query.v), px.light, b))
-        })
-        .collect();
+    let Luminance { geometry, shape, family: best, proxy_outside, .. } = luminance(view, toned)?;
     let value = |k: usize, c: usize| view.painting.pixels[k][c] as f64;
-    // The shape, from the luminance: S(l, v) times the luminance the light delivers.
-    let luminance: Vec<([f64; proxy::BASIS], [f64; 2])> = geometry
-        .iter()
-        .map(|(_, b, light, bounds)| {
-            let e: f64 = (0..3).map(|c| Y[c] * light[c]).sum();
-            let lo: f64 = (0..3).map(|c| Y[c] * bounds[c][0]).sum();
-            let hi: f64 = (0..3).map(|c| Y[c] * bounds[c][1]).sum();
-            (b.map(|x| x * e), [lo, hi])
-        })
-        .collect();
-    let start: Vec<f64> = geometry.iter().map(|&(k, ..)| (0..3).map(|c| Y[c] * value(k, c)).sum()).collect();
-    let (shape, _) = proxy::fit_within(&luminance, &start)?;
     // Per site, per unit of light: the diffuse shape, the luminance's lobe and its whole
     // shading, from the Blinn-Phong lobes or, where they clearly cannot hold the tones, a
     // lobe family's.
-    let read = family(view, &geometry, &luminance, &start, &shape);
+    let read = best.filter(|f| f.outside <= LOBE_GAIN * proxy_outside);
     let shading: Vec<(f64, f64, f64)> = match &read {
         Some(f) => geometry
             .iter()
@@ -252,6 +282,8 @@ struct Family {
     alpha: f64,
     /// Weights of ambient, diffuse, cool side and lobe.
     x: [f64; 4],
+    /// How far it leaves the intervals ([`outside`]).
+    outside: f64,
     shapes: Vec<(f64, f64)>,
 }
 
@@ -259,8 +291,8 @@ struct Family {
 /// GGX, Blinn-Phong, Phong, Ward, Ashikhmin-Shirley, Oren-Nayar, Minnaert) instead of the
 /// proxy's Blinn-Phong lobes: ambient, the family's diffuse shape, the cool side and its
 /// lobe, of the width that best keeps inside the intervals; of the families, the one that
-/// leaves them least. Returned where it clearly holds the tones better than the Blinn-Phong
-/// lobes ([`LOBE_GAIN`]). Six levels pin a lobe's shape down well: fitted to the intervals
+/// leaves them least. [`refine`] reads through it where it clearly holds the tones better
+/// than the Blinn-Phong lobes ([`LOBE_GAIN`]). Six levels pin a lobe's shape down well: fitted to the intervals
 /// alone, each of the nine faults-study models but Lambert's is held best by its own family
 /// (a GGX sphere of α = 0.04 leaves its intervals by 0.11 through the Blinn-Phong lobes,
 /// 0.0005 through its own; an Oren-Nayar one 0.012 and 0.0007). A Lambertian sphere is held
@@ -270,11 +302,7 @@ fn family(
     geometry: &[Site],
     luminance: &[([f64; proxy::BASIS], [f64; 2])],
     start: &[f64],
-    shape: &[f64; proxy::BASIS],
 ) -> Option<Family> {
-    let blinn: Vec<([f64; 4], [f64; 2])> =
-        luminance.iter().map(|(b, i)| ([b[0], b[1], b[2], (3..proxy::BASIS).map(|j| shape[j] * b[j]).sum()], *i)).collect();
-    let held = outside(&blinn, start, &[shape[0], shape[1], shape[2], 1.0]);
     let dirs: Vec<Option<(glam::DVec3, glam::DVec3)>> =
         geometry.iter().map(|&(k, ..)| view.geometry.pixels[k].as_ref().map(|p| (p.query.l, p.query.v))).collect();
     let shapes = |lobe: Lobe, alpha: f64, idx: &[usize]| -> Vec<(f64, f64)> {
@@ -309,7 +337,7 @@ fn family(
     let shapes = shapes(lobe, alpha, &all);
     let pts = points(&shapes, &all);
     let (x, _) = proxy::fit_within(&pts, start)?;
-    (outside(&pts, start, &x) <= LOBE_GAIN * held).then_some(Family { lobe, alpha, x, shapes })
+    Some(Family { lobe, alpha, x, outside: outside(&pts, start, &x), shapes })
 }
 
 /// [`family`] reads the tones when its lobe leaves the intervals by at most this fraction of
