@@ -202,9 +202,14 @@ pub fn refine(view: &mut PaintedView, toned: &Toned) -> Option<(Lobe, f64)> {
     let Luminance { geometry, shape, family: best, proxy_outside, .. } = luminance(view, toned)?;
     let value = |k: usize, c: usize| view.painting.pixels[k][c] as f64;
     // Per site, per unit of light: the diffuse shape, the luminance's lobe and its whole
-    // shading, from the Blinn-Phong lobes or, where they clearly cannot hold the tones, a
-    // lobe family's.
-    let read = best.filter(|f| f.outside <= LOBE_GAIN * proxy_outside);
+    // shading, from a lobe family's or, where it cannot hold the tones, the Blinn-Phong
+    // lobes.
+    // The family's lobe unless the proxy holds the tones clearly better; under a headlight,
+    // only where the family holds them clearly better ([`LOBE_MARGIN`]).
+    let lv: Vec<f64> = geometry.iter().filter_map(|&(k, ..)| view.geometry.pixels[k].as_ref().map(|p| p.query.l.dot(p.query.v))).collect();
+    let headlit = crate::study::median(&lv) > HEADLIT_DEG.to_radians().cos();
+    let gain = if headlit { 1.0 / LOBE_MARGIN } else { LOBE_MARGIN };
+    let read = best.filter(|f| f.outside <= gain * proxy_outside);
     let shading: Vec<(f64, f64, f64)> = match &read {
         Some(f) => geometry
             .iter()
@@ -291,12 +296,12 @@ struct Family {
 /// GGX, Blinn-Phong, Phong, Ward, Ashikhmin-Shirley, Oren-Nayar, Minnaert) instead of the
 /// proxy's Blinn-Phong lobes: ambient, the family's diffuse shape, the cool side and its
 /// lobe, of the width that best keeps inside the intervals; of the families, the one that
-/// leaves them least. [`refine`] reads through it where it clearly holds the tones better
-/// than the Blinn-Phong lobes ([`LOBE_GAIN`]). Six levels pin a lobe's shape down well: fitted to the intervals
+/// leaves them least. [`refine`] reads through it unless the Blinn-Phong lobes hold the
+/// tones clearly better ([`LOBE_MARGIN`]). Six levels pin a lobe's shape down well: fitted to the intervals
 /// alone, each of the nine faults-study models but Lambert's is held best by its own family
 /// (a GGX sphere of α = 0.04 leaves its intervals by 0.11 through the Blinn-Phong lobes,
 /// 0.0005 through its own; an Oren-Nayar one 0.012 and 0.0007). A Lambertian sphere is held
-/// by any lobe at small weight, and by the proxy, equally, and keeps the proxy's reading.
+/// by any lobe at small weight, and by the proxy, equally.
 fn family(
     view: &PaintedView,
     geometry: &[Site],
@@ -340,13 +345,20 @@ fn family(
     Some(Family { lobe, alpha, x, outside: outside(&pts, start, &x), shapes })
 }
 
-/// [`family`] reads the tones when its lobe leaves the intervals by at most this fraction of
-/// what the Blinn-Phong lobes leave: clearly better. Measured (faults study, 6 levels
-/// 0.068 → 0.034 either way): at 1.0, the family whenever it holds the tones no worse, all
-/// faults improved a little (0.0744 → 0.0707) but headlit paintings with every fault got
-/// worse (Lambert 0.067 → 0.153: with the light at the eye every family holds the tones,
-/// and which one is read decides the material under other lights).
-const LOBE_GAIN: f64 = 0.5;
+/// [`refine`] reads the tones through the best lobe family unless the proxy's Blinn-Phong
+/// lobes leave the intervals this many times less; under a headlight, only where the family
+/// leaves them this many times less than the proxy. A physical family is the better guess
+/// where the painting has no tones to say, and brush texture moves the tone edges so that
+/// every family and the proxy hold them about equally (faults study, all faults: the proxy
+/// 0.0744; the family whenever no worse 0.0707, whatever its margin from 1.2 up 0.0666; 6
+/// levels 0.068 → 0.026). Under a headlight every family holds the tones through some
+/// function of the one angle the painting shows, and which one is read decides the material
+/// under every other light: there the family only when clearly better (at 1, headlit
+/// Lambert with every fault went 0.067 → 0.153).
+const LOBE_MARGIN: f64 = 2.0;
+/// A view whose light is within this many degrees of the eye (median over its pixels) is
+/// headlit.
+const HEADLIT_DEG: f64 = 20.0;
 
 /// Euclidean distance from each pixel to the nearest `set` pixel (infinite when there is
 /// none): the exact transform of Felzenszwalb and Huttenlocher (2012), by rows then columns.
