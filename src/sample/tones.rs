@@ -19,11 +19,9 @@
 //!
 //! That interpolation is only a guess across a region a third of the sphere wide, so once
 //! the light is registered [`refine`] reads the tones again through the physical proxy
-//! ([`super::proxy`]): the smooth shading that keeps every pixel inside its interval (6
-//! levels: held-out error 0.165 interpolated, 0.068 through the proxy; BENCHMARKS.md).
-//! A highlight sharper than the proxy's Blinn-Phong lobes leaves its tone intervals through
-//! them; there it is read with a GGX lobe of the width the tones say ([`microfacet`]: a GGX
-//! sphere of α = 0.04 at 6 levels, held-out 0.22 → 0.10).
+//! ([`super::proxy`]) or the lobe family that holds them ([`family`]): the smooth shading that
+//! keeps every pixel inside its interval (6 levels: held-out error 0.165 interpolated, 0.068
+//! through the proxy, 0.026 through lobe families; BENCHMARKS.md).
 //!
 //! A painting counts as toned when, over its samples, every channel takes at most
 //! [`MAX_LEVELS`] distinct 8-bit codes and some channel at least [`MIN_LEVELS`]: two tones are a
@@ -184,32 +182,29 @@ pub fn held(view: &PaintedView, toned: &Toned) -> Option<f64> {
     Some(l.family.map_or(l.proxy_outside, |f| f.outside.min(l.proxy_outside)))
 }
 
-/// Reads a toned view through the physical proxy ([`super::proxy`]) or a lobe family
-/// ([`family`]; returned with its width when it is the one read through), once its light is
-/// known (registered): the proxy shading closest to the painting's intervals
-/// (`toned.bounds`), starting from [`smooth`]'s interpolation, and each pixel's value clamped
-/// into its interval. Where the proxy explains the painting the tones become its smooth
-/// shading (the interpolation between edges is only a guess across a region a third of the
-/// sphere wide); where it does not, the interpolation stays.
+/// Reads a toned view, once its light is known (registered): the shading closest to the
+/// painting's intervals (`toned.bounds`), starting from [`smooth`]'s interpolation, and each
+/// pixel's value clamped into its interval. Where the shading explains the painting the tones
+/// become it (the interpolation between edges is only a guess across a region a third of the
+/// sphere wide); where it does not, the interpolation stays. Returns the lobe family and
+/// width read through, or `None` for the physical proxy ([`super::proxy`]).
 ///
 /// A channel with three or four levels does not pin seven functions down, so the shape is
 /// read from the luminance first, whose intervals are narrow (it mixes every channel's edges,
-/// and one material's channels share their shading): its highlight from the Blinn-Phong
-/// lobes, or from a microfacet lobe where those cannot hold the tones ([`microfacet`]). Each
-/// channel then fits only its own ambient, diffuse, cool-side and highlight weights on that
-/// shape.
+/// and one material's channels share their shading): a lobe family's ([`family`]) unless the
+/// proxy's Blinn-Phong lobes hold the tones clearly better ([`LOBE_MARGIN`]). Each channel
+/// then fits only its own ambient, diffuse, cool-side and highlight weights on that shape.
 pub fn refine(view: &mut PaintedView, toned: &Toned) -> Option<(Lobe, f64)> {
     let Luminance { geometry, shape, family: best, proxy_outside, .. } = luminance(view, toned)?;
     let value = |k: usize, c: usize| view.painting.pixels[k][c] as f64;
-    // Per site, per unit of light: the diffuse shape, the luminance's lobe and its whole
-    // shading, from a lobe family's or, where it cannot hold the tones, the Blinn-Phong
-    // lobes.
     // The family's lobe unless the proxy holds the tones clearly better; under a headlight,
     // only where the family holds them clearly better ([`LOBE_MARGIN`]).
     let lv: Vec<f64> = geometry.iter().filter_map(|&(k, ..)| view.geometry.pixels[k].as_ref().map(|p| p.query.l.dot(p.query.v))).collect();
     let headlit = crate::study::median(&lv) > HEADLIT_DEG.to_radians().cos();
     let gain = if headlit { 1.0 / LOBE_MARGIN } else { LOBE_MARGIN };
     let read = best.filter(|f| f.outside <= gain * proxy_outside);
+    // Per site, per unit of light: the diffuse shape, the luminance's lobe and its whole
+    // shading.
     let shading: Vec<(f64, f64, f64)> = match &read {
         Some(f) => geometry
             .iter()
@@ -297,8 +292,8 @@ struct Family {
 /// proxy's Blinn-Phong lobes: ambient, the family's diffuse shape, the cool side and its
 /// lobe, of the width that best keeps inside the intervals; of the families, the one that
 /// leaves them least. [`refine`] reads through it unless the Blinn-Phong lobes hold the
-/// tones clearly better ([`LOBE_MARGIN`]). Six levels pin a lobe's shape down well: fitted to the intervals
-/// alone, each of the nine faults-study models but Lambert's is held best by its own family
+/// tones clearly better ([`LOBE_MARGIN`]). Six levels pin a lobe's shape down well: fitted
+/// to the intervals alone, each of the nine faults-study models but Lambert's is held best by its own family
 /// (a GGX sphere of α = 0.04 leaves its intervals by 0.11 through the Blinn-Phong lobes,
 /// 0.0005 through its own; an Oren-Nayar one 0.012 and 0.0007). A Lambertian sphere is held
 /// by any lobe at small weight, and by the proxy, equally.
@@ -311,14 +306,22 @@ fn family(
     let dirs: Vec<Option<(glam::DVec3, glam::DVec3)>> =
         geometry.iter().map(|&(k, ..)| view.geometry.pixels[k].as_ref().map(|p| (p.query.l, p.query.v))).collect();
     let shapes = |lobe: Lobe, alpha: f64, idx: &[usize]| -> Vec<(f64, f64)> {
-        idx.iter().map(|&i| dirs[i].map_or((0.0, 0.0), |(l, v)| { let (d, s, _) = lobe.shape(l, v, alpha); (d, s) })).collect()
+        idx.iter()
+            .map(|&i| {
+                let (d, s, _) = dirs[i].map_or((0.0, 0.0, 0.0), |(l, v)| lobe.shape(l, v, alpha));
+                (d, s)
+            })
+            .collect()
     };
     // b[0] is the basis's 1 times the luminance the light delivers.
     let points = |shapes: &[(f64, f64)], idx: &[usize]| -> Vec<([f64; 4], [f64; 2])> {
-        idx.iter().zip(shapes).map(|(&i, &(d, s))| {
-            let (b, interval) = &luminance[i];
-            ([b[0], b[0] * d, b[2], b[0] * s], *interval)
-        }).collect()
+        idx.iter()
+            .zip(shapes)
+            .map(|(&i, &(d, s))| {
+                let (b, interval) = &luminance[i];
+                ([b[0], b[0] * d, b[2], b[0] * s], *interval)
+            })
+            .collect()
     };
     let stride = luminance.len().div_ceil(SEARCH_SAMPLES).max(1);
     let search: Vec<usize> = (0..luminance.len()).step_by(stride).collect();
