@@ -166,4 +166,11 @@ fn the_wide_suite_meets_its_one_and_three_painting_targets() {
     let rim = 3; // study::suite::held_out's order: held-1..3, rim, side
     eprintln!("phong-50 from one painting: rim view {:.4} with its lobe, {:.4} plain", phong.views[rim], plain.views[rim]);
     assert!(phong.views[rim] < 0.01 && plain.views[rim] > 0.4, "rim {:.4} vs plain {:.4}", phong.views[rim], plain.views[rim]);
+    // The worst held-out view from three paintings (issue 15: ≤ 0.3). Ashikhmin-Shirley's
+    // rim light is its Fresnel, which the standard paintings (θ_d ≤ 28°) do not show: the
+    // family's own, coupled to R_s, carries it (0.608 when its lobe had none).
+    let worst = three.iter().map(|r| r.worst_view()).fold(("", 0.0), |a, b| if b.1 > a.1 { b } else { a });
+    let ashikhmin = three.iter().find(|r| r.model == "ashikhmin-shirley-100").unwrap();
+    eprintln!("worst view from three paintings: {worst:?}; ashikhmin-shirley-100 rim {:.4}", ashikhmin.views[rim]);
+    assert!(worst.1 <= 0.3 && ashikhmin.views[rim] < 0.01, "worst {worst:?}, ashikhmin-shirley-100 rim {:.4}", ashikhmin.views[rim]);
 }

@@ -95,6 +95,7 @@ const REFINE_STEPS: usize = 12;
 /// on front-lit paintings, so its energy there is far below the ridge and $k_f$ stays 0
 /// (measured on the suite's standard paintings); under side and back light (the wide
 /// paintings, θ_d to 77°) the data decide, and GGX's $1 - F_0$ comes back within 4%.
+/// Ashikhmin-Shirley's ridge pulls toward its own coupled Fresnel instead ([`linear_fit`]).
 const FRESNEL_RIDGE: f64 = 1e-4;
 
 /// The relative weight's softening: samples are weighted by $1/(S + \delta)^2$ with
@@ -500,13 +501,33 @@ fn linear_fit(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64
     }
     let (mut total, mut penalty) = (0.0, 0.0);
     let mut coef = [[0.0; N]; 3];
+    // Ashikhmin-Shirley's Fresnel is part of its model: Schlick's with F_0 = R_s under its
+    // normalization (n + 1)/(8π), so k_s = (n + 1)/(8π) R_s and k_f = (n + 1)/(8π)(1 − R_s)
+    // for shading under a unit light (what samples are: the scene's light divided out). Its
+    // ridge pulls k_s + k_f to (n + 1)/(8π) instead of k_f to 0, so paintings that show no
+    // grazing θ_d get the model's own Fresnel, and those that do still decide it. (GGX's
+    // k_s + k_f = 1 was tried and rejected: MERL's ABC lobes are not GGX's normalization, and
+    // `auto` got worse than the plain product on 13 of them; no MERL material takes this
+    // family, so none changes.) Wide suite, worst held-out view from three paintings:
+    // Ashikhmin-Shirley's rim light 0.608 → 0.0001.
+    let coupled = lobe == Lobe::AshikhminShirley;
+    let target = if coupled { (Lobe::exponent(alpha) + 1.0) / (8.0 * PI) } else { 0.0 };    let coupled = lobe == Lobe::AshikhminShirley;
     for c in 0..3 {
         // The ridge is part of the objective (so of the residual that picks alpha too).
         let ridge = FRESNEL_RIDGE * g[c][2][2];
         g[c][3][3] += ridge;
+        if coupled {
+            // λ (k_s + k_f − t)²: the k_f² part is above.
+            g[c][2][2] += ridge;
+            g[c][2][3] += ridge;
+            g[c][3][2] += ridge;
+            b[c][2] += ridge * target;
+            b[c][3] += ridge * target;
+            ss[c] += ridge * target * target;
+        }
         let (res, k) = nnls(&g[c], &b[c], ss[c]);
         total += res;
-        penalty += ridge * k[3] * k[3];
+        penalty += if coupled { ridge * (k[2] + k[3] - target).powi(2) } else { ridge * k[3] * k[3] };
         coef[c] = k;
     }
     (total, coef, penalty)
@@ -723,6 +744,15 @@ mod tests {
                 // A = 1 − 0.5σ²/(σ² + 0.33), B = 0.45σ²/(σ² + 0.09) at σ = 0.5: B/A = 0.4132.
                 let (a, b) = (1.0 - 0.5 * 0.25 / 0.58, 0.45 * 0.25 / 0.34);
                 assert!((base.specular[1] / base.diffuse[1] - b / a).abs() < 1e-3, "{base:?}");
+            }
+            if lobe == Lobe::AshikhminShirley {
+                // Its own Fresnel, though these lights show θ_d ≤ 30°: k_f = (n + 1)/(8π)(1 − R_s)
+                // = 101/(8π) × 0.9 = 3.617 in red, and k_s = 101/(8π) × 0.1 = 0.402.
+                let norm = 101.0 / (8.0 * std::f64::consts::PI);
+                for (c, rs) in [0.1, 0.12, 0.15].into_iter().enumerate() {
+                    assert!((base.specular[c] / (norm * rs) - 1.0).abs() < 0.02, "{base:?}");
+                    assert!((base.fresnel[c] / (norm * (1.0 - rs)) - 1.0).abs() < 0.02, "{base:?}");
+                }
             }
         }
     }
