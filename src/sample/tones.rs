@@ -199,8 +199,10 @@ pub fn refine(view: &mut PaintedView, toned: &Toned) -> Option<(Lobe, f64)> {
     let value = |k: usize, c: usize| view.painting.pixels[k][c] as f64;
     // The family's lobe unless the proxy holds the tones clearly better; under a headlight,
     // only where the family holds them clearly better ([`LOBE_MARGIN`]).
-    let lv: Vec<f64> = geometry.iter().filter_map(|&(k, ..)| view.geometry.pixels[k].as_ref().map(|p| p.query.l.dot(p.query.v))).collect();
-    let headlit = crate::study::median(&lv) > HEADLIT_DEG.to_radians().cos();
+    // Headlit: most pixels see the light within HEADLIT_DEG of the eye.
+    let near = HEADLIT_DEG.to_radians().cos();
+    let lit_near = geometry.iter().filter(|&&(k, ..)| view.geometry.pixels[k].as_ref().is_some_and(|p| p.query.l.dot(p.query.v) > near)).count();
+    let headlit = 2 * lit_near > geometry.len();
     let gain = if headlit { 1.0 / LOBE_MARGIN } else { LOBE_MARGIN };
     let read = best.filter(|f| f.outside <= gain * proxy_outside);
     // Per site, per unit of light: the diffuse shape, the luminance's lobe and its whole
@@ -359,7 +361,7 @@ fn family(
 /// under every other light: there the family only when clearly better (at 1, headlit
 /// Lambert with every fault went 0.067 → 0.153).
 const LOBE_MARGIN: f64 = 2.0;
-/// A view whose light is within this many degrees of the eye (median over its pixels) is
+/// A view whose light is within this many degrees of the eye at most of its pixels is
 /// headlit.
 const HEADLIT_DEG: f64 = 20.0;
 
