@@ -81,9 +81,9 @@ fn registered_paintings_generalize_to_held_out_views() {
 }
 
 /// A posterized painting of `model` (6 levels per channel) read as `pipeline::read` reads
-/// tones: between tone edges (`tones::smooth`), then through the proxy (`tones::refine`).
-/// Returns what was read and the painting's relative RMS against the clean one as painted,
-/// between edges and refined.
+/// tones: between tone edges (`tones::smooth`), then through a lobe family or the proxy
+/// (`tones::refine`). Returns what was read, the painting's relative RMS against the clean one
+/// as painted, between edges and refined, and the family read through.
 fn read_tones(view: &FaultyView, model: &Analytic) -> (tones::Toned, [f64; 3], Option<(Lobe, f64)>) {
     let clean = faults::paint(view, model, &Faults::clean()).unwrap();
     let mut toned = faults::paint(view, model, &Faults::posterized()).unwrap();
