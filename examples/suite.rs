@@ -80,7 +80,7 @@ fn main() -> brdfpaint::Result<()> {
     let solve_s = brdfpaint::study::bench::median_time(200, 1.0, || {
         std::hint::black_box(prepared.solve_tables(&values, &map).expect("solve"));
     });
-    // The base's own fit (the search over alpha and the linear fit, for each of the four
+    // The base's own fit (the search over alpha and the linear fit, for each of the seven
     // lobe families `auto` tries), once per fit.
     let base_s = brdfpaint::study::bench::median_time(20, 1.0, || {
         std::hint::black_box(brdfpaint::factor::base::Base::fit_any(&pattern, &values));

@@ -202,7 +202,9 @@ pub fn read(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading)
     // 13° on the interpolation (its tones left by 0.0013 under the scene's light, 0.044
     // under the turn), and its held-out error went 0.01 → 0.29. Where the tones cannot tell
     // (a Gooch painting's two or three, under a headlight), the turn stays.
-    for (i, t) in &toned {
+    // The reading under the light kept, for `tones::refine` below (a search not repeated).
+    let mut held: Vec<Option<tones::Luminance>> = toned.iter().map(|_| None).collect();
+    for ((i, t), kept) in toned.iter().zip(held.iter_mut()) {
         // No turns at all when the light is not registered.
         if !turns.get(*i).is_some_and(register::Turn::moved) {
             continue;
@@ -211,8 +213,14 @@ pub fn read(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading)
         let registered = std::mem::replace(&mut views[*i].geometry, scene_geometry[*i].clone());
         let scene = tones::held(&views[*i], t);
         match (turned, scene) {
-            (Some(turned), Some(scene)) if scene < (1.0 - register::MIN_GAIN) * turned => turns[*i] = register::Turn::kept(turns[*i].before),
-            _ => views[*i].geometry = registered,
+            (Some(turned), Some(scene)) if scene.outside() < (1.0 - register::MIN_GAIN) * turned.outside() => {
+                turns[*i] = register::Turn::kept(turns[*i].before);
+                *kept = Some(scene);
+            }
+            (turned, _) => {
+                views[*i].geometry = registered;
+                *kept = turned;
+            }
         }
     }
     for (view, turn) in views.iter().zip(&turns) {
@@ -220,8 +228,8 @@ pub fn read(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading)
             notes.push(register::describe(view, turn));
         }
     }
-    for (i, t) in &toned {
-        if let Some((lobe, alpha)) = tones::refine(&mut views[*i], t) {
+    for ((i, t), held) in toned.iter().zip(held) {
+        if let Some((lobe, alpha)) = tones::refine(&mut views[*i], t, held) {
             let width = if lobe.has_width() { format!(" ({})", lobe.width_of(alpha)) } else { String::new() };
             notes.push(format!("{}: its tones are held best by the {} lobe{width}: read through it", views[*i].name, lobe.name()));
         }

@@ -101,7 +101,7 @@ fn read_tones(view: &FaultyView, model: &Analytic) -> (tones::Toned, [f64; 3], O
     let before = error(&toned.painting);
     let read = tones::smooth(&mut toned).expect("6 levels per channel are flat tones");
     let between = error(&toned.painting);
-    let family = tones::refine(&mut toned, &read);
+    let family = tones::refine(&mut toned, &read, None);
     let refined = error(&toned.painting);
     (read, [before, between, refined], family)
 }

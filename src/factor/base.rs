@@ -24,9 +24,9 @@
 //! $k_f = k(1 - F_0)$: linear in both, so every channel has its own $F_0$ at no search cost.
 //! $a$, $k_d$, $k_s$, $k_f \ge 0$ come from a weighted non-negative linear least-squares fit,
 //! $\alpha$ (shared by the channels) from a one-dimensional search. $k_f$ is ridged toward
-//! zero ([`FRESNEL_RIDGE`]): paintings under a light near the camera show $\theta_d$ below
-//! 30°, where $(1 - \cos\theta_d)^5 < 10^{-4}$, and must not invent a Fresnel rise they
-//! cannot see. The ratio is softened ([`RATIO_SOFTENING`]) so it stays finite where the lobe
+//! zero ([`FRESNEL_RIDGE`]; Ashikhmin-Shirley's toward its model's own Fresnel): paintings
+//! under a light near the camera show $\theta_d$ below 30°, where $(1 - \cos\theta_d)^5 <
+//! 10^{-4}$, and must not invent a Fresnel rise they cannot see. The ratio is softened ([`RATIO_SOFTENING`]) so it stays finite where the lobe
 //! is zero (the unlit side).
 //!
 //! The prepared system depends only on where the samples are (thesis 3.2.2), so the base
@@ -225,7 +225,8 @@ pub enum Lobe {
     /// ((\mathbf h\cdot\mathbf l)\max(\cos\theta_l, \cos\theta_v))$, with its own diffuse
     /// shape in place of Lambert's, $\cos\theta_l\, g(\cos\theta_l)\, g(\cos\theta_v)$, $g(c)
     /// = 1 - (1 - c/2)^5$ (its Schlick Fresnel is the linear $k_s + k_f x^5$ as for the
-    /// others, and its $(1 - R_s)$ is in $k_d$).
+    /// others, pulled to its own $F_0 = R_s$ where the data do not decide, [`linear_fit`];
+    /// its $(1 - R_s)$ is in $k_d$).
     AshikhminShirley,
     /// Oren-Nayar's rough diffuse (qualitative model, 1994): Lambert ($k_d$, their $A$) plus
     /// $\cos\theta_l \max(0, \cos(\phi_l - \phi_v)) \sin\max(\theta_l, \theta_v)
@@ -511,7 +512,7 @@ fn linear_fit(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64
     // family, so none changes.) Wide suite, worst held-out view from three paintings:
     // Ashikhmin-Shirley's rim light 0.608 → 0.0001.
     let coupled = lobe == Lobe::AshikhminShirley;
-    let target = if coupled { (Lobe::exponent(alpha) + 1.0) / (8.0 * PI) } else { 0.0 };    let coupled = lobe == Lobe::AshikhminShirley;
+    let target = if coupled { (Lobe::exponent(alpha) + 1.0) / (8.0 * PI) } else { 0.0 };
     for c in 0..3 {
         // The ridge is part of the objective (so of the residual that picks alpha too).
         let ridge = FRESNEL_RIDGE * g[c][2][2];

@@ -132,8 +132,8 @@ const FEW_LEVELS: usize = 3;
 type Site = (usize, [f64; proxy::BASIS], [f64; 3], [[f64; 2]; 3]);
 
 /// The luminance's tones of a toned view under its geometry's light, and how well the
-/// proxy and the best lobe family hold them.
-struct Luminance {
+/// proxy and the best lobe family hold them ([`held`]); [`refine`] reads through it.
+pub struct Luminance {
     geometry: Vec<Site>,
     shape: [f64; proxy::BASIS],
     family: Option<Family>,
@@ -171,15 +171,21 @@ fn luminance(view: &PaintedView, toned: &Toned) -> Option<Luminance> {
     Some(Luminance { geometry, shape, family, proxy_outside })
 }
 
-/// How far the best reading of a toned view (the proxy's or a lobe family's) leaves the
-/// tone intervals under the view's light ([`outside`], relative); `None` when there is
-/// nothing to read. The tones are the painting's evidence: where the edges between them lie
-/// is what the painter put down, unlike the interpolation between them ([`smooth`]), so a
-/// light registered on the interpolation is checked on this
-/// ([`crate::pipeline::read`]).
-pub fn held(view: &PaintedView, toned: &Toned) -> Option<f64> {
-    let l = luminance(view, toned)?;
-    Some(l.family.map_or(l.proxy_outside, |f| f.outside.min(l.proxy_outside)))
+/// How a toned view's tones are held under the view's light ([`Luminance`]; `None` when
+/// there is nothing to read). The tones are the painting's evidence: where the edges between
+/// them lie is what the painter put down, unlike the interpolation between them ([`smooth`]),
+/// so a light registered on the interpolation is checked on this ([`crate::pipeline::read`]),
+/// and the reading kept is passed on to [`refine`] for the light kept.
+pub fn held(view: &PaintedView, toned: &Toned) -> Option<Luminance> {
+    luminance(view, toned)
+}
+
+impl Luminance {
+    /// How far the best reading (the proxy's or a lobe family's) leaves the tone intervals
+    /// ([`outside`], relative).
+    pub fn outside(&self) -> f64 {
+        self.family.as_ref().map_or(self.proxy_outside, |f| f.outside.min(self.proxy_outside))
+    }
 }
 
 /// Reads a toned view, once its light is known (registered): the shading closest to the
@@ -194,8 +200,13 @@ pub fn held(view: &PaintedView, toned: &Toned) -> Option<f64> {
 /// and one material's channels share their shading): a lobe family's ([`family`]) unless the
 /// proxy's Blinn-Phong lobes hold the tones clearly better ([`LOBE_MARGIN`]). Each channel
 /// then fits only its own ambient, diffuse, cool-side and highlight weights on that shape.
-pub fn refine(view: &mut PaintedView, toned: &Toned) -> Option<(Lobe, f64)> {
-    let Luminance { geometry, shape, family: best, proxy_outside, .. } = luminance(view, toned)?;
+/// `held`, when given, is [`held`]'s reading of this view under its current light (not
+/// searched again).
+pub fn refine(view: &mut PaintedView, toned: &Toned, held: Option<Luminance>) -> Option<(Lobe, f64)> {
+    let Luminance { geometry, shape, family: best, proxy_outside } = match held {
+        Some(l) => l,
+        None => luminance(view, toned)?,
+    };
     let value = |k: usize, c: usize| view.painting.pixels[k][c] as f64;
     // The family's lobe unless the proxy holds the tones clearly better; under a headlight,
     // only where the family holds them clearly better ([`LOBE_MARGIN`]).

@@ -29,7 +29,7 @@ impl TablePlots {
         ui.horizontal(|ui| {
             ui.strong("Factor tables");
             // The analytic base the tables multiply, when there is one (`fit --base`).
-            let base = material.terms.first().and_then(|t| t.base).map_or(String::new(), |b| format!(", over a {} lobe of {}", b.lobe.name(), b.width()));
+            let base = material.terms.first().and_then(|t| t.base).map_or(String::new(), |b| format!(", over the {} lobe, {}", b.lobe.name(), b.width()));
             ui.label(format!(
                 "({:?}, {} term{}, mapping {}{base})",
                 material.kind,
