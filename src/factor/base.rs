@@ -26,8 +26,8 @@
 //! $\alpha$ (shared by the channels) from a one-dimensional search. $k_f$ is ridged toward
 //! zero ([`FRESNEL_RIDGE`]; Ashikhmin-Shirley's toward its model's own Fresnel): paintings
 //! under a light near the camera show $\theta_d$ below 30°, where $(1 - \cos\theta_d)^5 <
-//! 10^{-4}$, and must not invent a Fresnel rise they cannot see. The ratio is softened ([`RATIO_SOFTENING`]) so it stays finite where the lobe
-//! is zero (the unlit side).
+//! 10^{-4}$, and must not invent a Fresnel rise they cannot see. The ratio is softened
+//! ([`RATIO_SOFTENING`]) so it stays finite where the lobe is zero (the unlit side).
 //!
 //! The prepared system depends only on where the samples are (thesis 3.2.2), so the base
 //! changes nothing but the right-hand side: [`solve_based`] divides the values by $B$ and
