@@ -29,7 +29,7 @@ use glam::{DMat3, DVec3, Mat4, Vec3};
 
 use crate::error::{Error, Result};
 use crate::factor::cache::Cache;
-use crate::factor::{Input, Settings};
+use crate::factor::Settings;
 use crate::images::{neighbours4, Painting};
 use crate::pipeline::{self, Fitted, Options};
 use crate::scene::{sphere_mesh, Camera, Light, Projection, Scene};
@@ -486,7 +486,7 @@ pub fn shrink(p: &Painting, max_side: usize) -> (Painting, usize) {
 /// ([`settings`]).
 pub const LIGHT_DAMP: f64 = 1e-3;
 /// The floor of that shape behind the surface, a fraction of the picture's largest value.
-pub const LIGHT_FLOOR: f64 = 0.02;
+pub const LIGHT_FLOOR: f64 = crate::factor::defaults::LIGHT_FLOOR;
 
 /// The fit settings of a lit sphere: `base` with the light factor drawn to its physical
 /// shape where the picture leaves it free ([`Settings::light_prior`], with first-difference
@@ -502,12 +502,7 @@ pub const LIGHT_FLOOR: f64 = 0.02;
 /// picture shows otherwise (a Gooch sphere's lit unlit side) the data win. Measured on the 23
 /// bundled MatCaps under a light sweep around the bunny (tests/lit_sphere.rs).
 pub fn settings(base: &Settings) -> Settings {
-    let mut s = base.clone();
-    for f in s.factors.iter_mut().filter(|f| f.input == Input::Light) {
-        f.damp = LIGHT_DAMP;
-    }
-    s.light_prior = Some(LIGHT_FLOOR);
-    s
+    base.with_light_prior(LIGHT_DAMP, LIGHT_FLOOR)
 }
 
 /// A lit-sphere picture made ready to fit: read, box-filtered to at most a given side, its

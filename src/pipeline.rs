@@ -367,6 +367,12 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
         _ => DifferenceChoice::Off,
     };
     let (settings, added) = choice.apply(&opts.settings, &samples.pattern);
+    // Headlit paintings get the light prior (Settings::for_pattern); a material map's terms
+    // are not one shading, so their light factors stay free.
+    let settings = match opts.kind {
+        Kind::Uniform | Kind::FourFactor => settings.for_pattern(&samples.pattern),
+        Kind::MaterialMap | Kind::Hybrid => settings,
+    };
     let solved = solve(&samples, &settings, opts.mapping, cache)?;
     let provenance = provenance(sources(views), Some(solved.fit.errors), samples.len(), solved.prepare_s, solved.solve_s);
     let mut uniform = Material::from_fit(&settings, &solved.fit, provenance.clone())?;

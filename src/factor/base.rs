@@ -338,8 +338,29 @@ impl Base {
     }
 
     /// [`Base::fit`] of every lobe family ([`Lobe::ALL`]): the one of least misfit.
+    ///
+    /// A headlit painting ([`Pattern::headlit`]) hardly tells an ambient from a shading that
+    /// falls slowly toward the rim (Oren-Nayar's, Minnaert's), and an ambient stays lit with
+    /// the light behind: a headlit Minnaert painting with brush texture was held best by a
+    /// Blinn-Phong lobe over an ambient (misfit 0.0505; 0.0507 for the best lobe without
+    /// one), and its material kept 62% of its brightness with the light behind (the truth:
+    /// none). There the families are fitted without an ambient, and the best one with an
+    /// ambient is kept only where it holds the painting clearly better
+    /// ([`HEADLIT_AMBIENT_GAIN`]): a Gooch painting's cool rim.
     pub fn fit_any(pattern: &Pattern, values: &[[f64; 3]]) -> Option<(Base, f64)> {
-        Lobe::ALL.iter().filter_map(|&lobe| Base::fit_lobe(pattern, values, lobe)).min_by(|a, b| a.1.total_cmp(&b.1))
+        if values.len() != pattern.len() {
+            return None;
+        }
+        let (_, delta) = softening(values)?;
+        let best = |ambient: bool| Lobe::ALL.iter().filter_map(|&lobe| Base::fit_with(pattern, values, delta, lobe, ambient)).min_by(|a, b| a.1.total_cmp(&b.1));
+        let lit = best(true)?;
+        if !pattern.headlit() {
+            return Some(lit);
+        }
+        match best(false) {
+            Some(dark) if lit.1 >= HEADLIT_AMBIENT_GAIN * dark.1 => Some(dark),
+            _ => Some(lit),
+        }
     }
 
     /// [`Base::fit`] with a lobe of family `lobe`.
@@ -348,10 +369,15 @@ impl Base {
             return None;
         }
         let (_, delta) = softening(values)?;
-        let alpha = if lobe.has_width() { Base::search_width(pattern, values, delta, lobe)? } else { 1.0 };
+        Base::fit_with(pattern, values, delta, lobe, true)
+    }
+
+    /// [`Base::fit_lobe`] with or without an ambient.
+    fn fit_with(pattern: &Pattern, values: &[[f64; 3]], delta: [f64; 3], lobe: Lobe, ambient: bool) -> Option<(Base, f64)> {
+        let alpha = if lobe.has_width() { Base::search_width(pattern, values, delta, lobe, ambient)? } else { 1.0 };
         // The colours from every sample up to [`FIT_SAMPLES`] (every k-th beyond).
         let fitted = fitted_samples(pattern.len());
-        let (res, k, penalty) = linear_fit(pattern, values, &fitted, delta, lobe, alpha);
+        let (res, k, penalty) = linear_fit(pattern, values, &fitted, delta, lobe, alpha, ambient);
         let res = (res - penalty).max(0.0);
         // The misfit relative to the weighted values: $\sqrt{\sum w (B - S)^2 / \sum w S^2}$
         // (the data's part of the objective; the ridge's penalty is no misfit).
@@ -362,13 +388,13 @@ impl Base {
 
     /// The width of `lobe` that fits `values` best: a log grid of [`ALPHAS`] on every k-th
     /// sample up to [`SEARCH_SAMPLES`], refined by golden section.
-    fn search_width(pattern: &Pattern, values: &[[f64; 3]], delta: [f64; 3], lobe: Lobe) -> Option<f64> {
+    fn search_width(pattern: &Pattern, values: &[[f64; 3]], delta: [f64; 3], lobe: Lobe, ambient: bool) -> Option<f64> {
         let stride = pattern.len().div_ceil(SEARCH_SAMPLES).max(1);
         let search: Vec<usize> = (0..pattern.len()).step_by(stride).collect();
         let mut best: Option<(f64, f64)> = None; // (residual, alpha)
         for i in 0..ALPHAS {
             let alpha = ALPHA_MIN * (ALPHA_MAX / ALPHA_MIN).powf(i as f64 / (ALPHAS - 1) as f64);
-            let (res, ..) = linear_fit(pattern, values, &search, delta, lobe, alpha);
+            let (res, ..) = linear_fit(pattern, values, &search, delta, lobe, alpha, ambient);
             if best.is_none_or(|b| res < b.0) {
                 best = Some((res, alpha));
             }
@@ -378,7 +404,7 @@ impl Base {
         // $\log\alpha$: the grid's step (about 19%) alone leaves a GGX truth a misfit of a few
         // percent, which would hide it among the models of other families.
         let step = (ALPHA_MAX / ALPHA_MIN).ln() / (ALPHAS - 1) as f64;
-        let at = |x: f64| linear_fit(pattern, values, &search, delta, lobe, x.exp()).0;
+        let at = |x: f64| linear_fit(pattern, values, &search, delta, lobe, x.exp(), ambient).0;
         let (mut lo, mut hi) = ((alpha.ln() - step).max(ALPHA_MIN.ln()), (alpha.ln() + step).min(ALPHA_MAX.ln()));
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
@@ -441,6 +467,10 @@ fn weighted_energy(values: &[[f64; 3]], idx: &[usize], delta: [f64; 3]) -> f64 {
     idx.iter().map(|&i| &values[i]).map(|v| (0..3).map(|c| (v[c] / (v[c] + delta[c])).powi(2)).sum::<f64>()).sum()
 }
 
+/// On a headlit painting the lobe families keep an ambient only when the best of them with
+/// one misfits less than this fraction of the best without ([`Base::fit_any`]).
+pub const HEADLIT_AMBIENT_GAIN: f64 = 0.5;
+
 /// The samples a misfit is measured on: every one up to [`FIT_SAMPLES`], every k-th beyond.
 fn fitted_samples(n: usize) -> Vec<usize> {
     (0..n).step_by(n.div_ceil(FIT_SAMPLES).max(1)).collect()
@@ -476,10 +506,11 @@ pub fn excess(lobe: f64, product: f64) -> f64 {
 }
 
 /// Weighted non-negative least squares of $(a, k_d, k_s, k_f)$ per channel for a fixed
-/// $\alpha$ over the samples `idx` ($k_f$ ridged, [`FRESNEL_RIDGE`]): the summed weighted
+/// $\alpha$ over the samples `idx` ($k_f$ ridged, [`FRESNEL_RIDGE`]; $a = 0$ unless
+/// `ambient`): the summed weighted
 /// residual with the ridge's penalty (what the fit minimizes), the coefficients, and the
 /// penalty alone (so a misfit can leave it out).
-fn linear_fit(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64; 3], lobe: Lobe, alpha: f64) -> (f64, [[f64; 4]; 3], f64) {
+fn linear_fit(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64; 3], lobe: Lobe, alpha: f64, ambient: bool) -> (f64, [[f64; 4]; 3], f64) {
     // Normal equations per channel: G = Σ w x xᵀ, b = Σ w x s, c = Σ w s².
     let mut g = [[[0.0f64; N]; N]; 3];
     let mut b = [[0.0f64; N]; 3];
@@ -487,7 +518,7 @@ fn linear_fit(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64
     for &i in idx {
         let q = &pattern.queries[i];
         let (diffuse, spec, x5) = lobe.shape(q.l, q.v, alpha);
-        let x = [1.0, diffuse, spec, spec * x5];
+        let x = [if ambient { 1.0 } else { 0.0 }, diffuse, spec, spec * x5];
         for c in 0..3 {
             let s = values[i][c];
             let w = 1.0 / (s + delta[c]).powi(2);
@@ -684,7 +715,7 @@ pub fn solve_on_base(prepared: &Prepared, pattern: &Pattern, values: &[[f64; 3]]
     let mut best: Option<Fit> = None;
     let mut tried = Vec::new();
     for m in singles {
-        let mut fit = prepared.solve(&ratio, m)?;
+        let mut fit = prepared.solve_ratio(&ratio, m)?;
         fit.errors = on_s(&fit);
         tried.push((fit.map, fit.errors));
         if best.as_ref().is_none_or(|b| score(&fit.map, &fit.errors) < score(&b.map, &b.errors)) {

@@ -46,6 +46,23 @@ pub struct Sample {
     pub value: [f64; 3],
 }
 
+/// A view whose light is within this many degrees of the eye at most of its samples is
+/// headlit ([`headlit`]).
+pub const HEADLIT_DEG: f64 = 30.0;
+
+/// Whether most of the (light, view) pairs see the light within [`HEADLIT_DEG`] of the eye:
+/// a painting lit from the viewer, where $\theta_l$, $\theta_h$ and $\theta_v$ move together
+/// and the samples fix only the product of the factors along that diagonal.
+pub fn headlit(pairs: impl Iterator<Item = (DVec3, DVec3)>) -> bool {
+    let near = HEADLIT_DEG.to_radians().cos();
+    let (mut all, mut lit) = (0usize, 0usize);
+    for (l, v) in pairs {
+        all += 1;
+        lit += usize::from(l.dot(v) > near);
+    }
+    2 * lit > all
+}
+
 /// The positions of a set of samples.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Pattern {
@@ -55,6 +72,11 @@ pub struct Pattern {
 }
 
 impl Pattern {
+    /// Whether the samples are lit from the eye ([`headlit`]).
+    pub fn headlit(&self) -> bool {
+        headlit(self.queries.iter().map(|q| (q.l, q.v)))
+    }
+
     /// A pattern from queries; `has_uv` says whether their `uv` fields are meaningful.
     pub fn new(queries: Vec<Query>, has_uv: bool) -> Self {
         Pattern { queries, has_uv }

@@ -263,10 +263,16 @@ impl Prepared {
 
     /// The right-hand side $\mathbf b = \mathbf A^\top \tilde{\mathbf f}$ of mapped values.
     pub fn rhs(&self, values: &[[f64; 3]], map: &LogMap) -> Mat<f64> {
+        self.rhs_with(values, map, true)
+    }
+
+    /// [`Prepared::rhs`], with the light prior's shape only when `prior` (and the settings
+    /// have one); without it the light factor's damping pulls it flat.
+    fn rhs_with(&self, values: &[[f64; 3]], map: &LogMap, prior: bool) -> Mat<f64> {
         let mut b = vec![[0.0; 4]; self.design.n];
         self.design.transpose_apply(values, &|c, x| map.forward_all(c, x), &mut b);
         let mut b = Mat::from_fn(self.design.n, 3, |r, c| b[r][c]);
-        if let Some(floor) = self.settings.light_prior {
+        if let Some(floor) = self.settings.light_prior.filter(|_| prior) {
             // The light factor's regularization then acts on its deviation from the physical
             // shape (Settings::light_prior): only this side of the system moves.
             let mut max = [0.0f64; 3];
@@ -410,6 +416,17 @@ impl Prepared {
     /// gain ([`INVERTED_MARGIN`]). The tables are bounded where the painting is silent
     /// ([`Prepared::bound`]).
     pub fn solve(&self, values: &[[f64; 3]], mapping: Mapping) -> Result<Fit> {
+        self.solve_with(values, mapping, true)
+    }
+
+    /// [`Prepared::solve`] of a ratio to an analytic base ([`super::base`]): the base holds
+    /// the light's falloff, so the light prior's shape ([`Settings::light_prior`]) is not
+    /// pulled toward a second time; the light factor's damping pulls it flat instead.
+    pub fn solve_ratio(&self, values: &[[f64; 3]], mapping: Mapping) -> Result<Fit> {
+        self.solve_with(values, mapping, false)
+    }
+
+    fn solve_with(&self, values: &[[f64; 3]], mapping: Mapping, prior: bool) -> Result<Fit> {
         let max = self.check(values)?;
         let mut best: Option<Fit> = None;
         let mut tried = Vec::new();
@@ -419,7 +436,7 @@ impl Prepared {
         // everywhere else.
         let score = |m: &LogMap, e: &Errors| if matches!(m, LogMap::Inverted { .. }) { e.rms / (1.0 - INVERTED_MARGIN) } else { e.rms };
         for map in mapping.candidates(max)? {
-            let mut y = self.apply(&self.rhs(values, &map));
+            let mut y = self.apply(&self.rhs_with(values, &map, prior));
             self.bound(&mut y, &map, max);
             let tables = self.split(&y);
             let errors = self.errors(&tables, &map, values);

@@ -239,6 +239,15 @@ pub mod defaults {
     /// peak on held-out views from three paintings within 7% of the truth (unwarped: 31% too
     /// bright on one view). A warp of 2 left that peak 18% off; 4 was no better than 3.
     pub const WARP_HALF: f64 = 3.0;
+    /// First-difference damping of the light factor's deviation from its physical shape
+    /// when the paintings are headlit ([`super::Settings::for_pattern`]). Chosen on the
+    /// faults study's headlit paintings (`cargo run --release --example faults -- --read
+    /// --front`; BENCHMARKS.md, "Headlit paintings"): at 1e-5 the worst held-out view with
+    /// every fault was 0.64, at 1e-4 0.42, at 1e-3 0.55.
+    pub const DAMP_HEADLIT: f64 = 1e-4;
+    /// The light prior's floor behind the surface, a fraction of the painting's largest
+    /// value ([`super::Settings::light_prior`]).
+    pub const LIGHT_FLOOR: f64 = 0.02;
 }
 
 /// Largest table resolution per axis accepted for 1D and 2D factors.
@@ -319,6 +328,38 @@ impl Settings {
         let mut s = Settings::default();
         s.factors.push(FactorSpec::difference(res));
         s
+    }
+
+    /// `self` with its light factors drawn to their physical shape where the samples leave
+    /// them free: [`Settings::light_prior`] with floor `floor`, and first-difference damping
+    /// `damp` of their deviation from it.
+    pub fn with_light_prior(&self, damp: f64, floor: f64) -> Settings {
+        let mut s = self.clone();
+        for f in s.factors.iter_mut().filter(|f| f.input == Input::Light) {
+            f.damp = damp;
+        }
+        s.light_prior = Some(floor);
+        s
+    }
+
+    /// The settings to fit the samples of `pattern` with: `self`, and where the samples are
+    /// headlit ([`super::headlit`]) and `self` has no light prior, the light prior
+    /// ([`defaults::DAMP_HEADLIT`], [`defaults::LIGHT_FLOOR`]).
+    ///
+    /// Why: with the light at the eye, $\theta_l$, $\theta_h$ and $\theta_v$ move together and
+    /// the samples fix only the product along that diagonal; a slope in log space moved from
+    /// $q$ to $p$ leaves them unchanged, and the Laplacian does not see a slope. Left free,
+    /// a headlit Lambertian sphere with stray black strokes had $p$ rising ×3·10⁴ toward
+    /// grazing light and $q$ falling as much; the bound then cut one and not the other, and
+    /// the fit's error on its own samples was 0.9986 (0.0002 clean). The prior puts the
+    /// falloff in the light factor, as irradiance has it, so the material darkens when the
+    /// light moves behind; a lobe at the eye stays in $q$. Lit spheres get the same prior,
+    /// stronger ([`crate::litsphere::settings`]).
+    pub fn for_pattern(&self, pattern: &super::Pattern) -> Settings {
+        match self.light_prior.is_none() && pattern.headlit() {
+            true => self.with_light_prior(defaults::DAMP_HEADLIT, defaults::LIGHT_FLOOR),
+            false => self.clone(),
+        }
     }
 
     /// `self` with a factor of $\theta_d$ ([`FactorSpec::difference`], smoothed like the

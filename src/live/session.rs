@@ -62,11 +62,12 @@ pub fn fit_views(views: &[&PaintView], settings: &Settings, mapping: Mapping) ->
     Ok((fit, material))
 }
 
-/// The settings the views are fitted with: the session's, and a factor of θ_d when the
-/// painted views show side or back light, as `brdfpaint fit` adds it
-/// ([`factor::DifferenceChoice::Auto`]).
+/// The settings the views are fitted with, as `brdfpaint fit` has them: the session's, a
+/// factor of θ_d when the painted views show side or back light
+/// ([`factor::DifferenceChoice::Auto`]), and the light prior when they are headlit
+/// ([`Settings::for_pattern`]).
 fn settings_for(settings: &Settings, pattern: &factor::Pattern) -> Settings {
-    factor::DifferenceChoice::Auto.apply(settings, pattern).0
+    factor::DifferenceChoice::Auto.apply(settings, pattern).0.for_pattern(pattern)
 }
 
 fn provenance(views: &[&PaintView], prepared: &Prepared, errors: Option<Errors>, solve_s: f64) -> Provenance {

@@ -210,10 +210,7 @@ pub fn refine(view: &mut PaintedView, toned: &Toned, held: Option<Luminance>) ->
     let value = |k: usize, c: usize| view.painting.pixels[k][c] as f64;
     // The family's lobe unless the proxy holds the tones clearly better; under a headlight,
     // only where the family holds them clearly better ([`LOBE_MARGIN`]).
-    // Headlit: most pixels see the light within HEADLIT_DEG of the eye.
-    let near = HEADLIT_DEG.to_radians().cos();
-    let lit_near = geometry.iter().filter(|&&(k, ..)| view.geometry.pixels[k].as_ref().is_some_and(|p| p.query.l.dot(p.query.v) > near)).count();
-    let headlit = 2 * lit_near > geometry.len();
+    let headlit = crate::factor::headlit(geometry.iter().filter_map(|&(k, ..)| view.geometry.pixels[k].as_ref().map(|p| (p.query.l, p.query.v))));
     let gain = if headlit { 1.0 / LOBE_MARGIN } else { LOBE_MARGIN };
     let read = best.filter(|f| f.outside <= gain * proxy_outside);
     // Per site, per unit of light: the diffuse shape, the luminance's lobe and its whole
@@ -372,9 +369,6 @@ fn family(
 /// under every other light: there the family only when clearly better (at 1, headlit
 /// Lambert with every fault went 0.067 → 0.153).
 const LOBE_MARGIN: f64 = 2.0;
-/// A view whose light is within this many degrees of the eye at most of its pixels is
-/// headlit.
-const HEADLIT_DEG: f64 = 20.0;
 
 /// Euclidean distance from each pixel to the nearest `set` pixel (infinite when there is
 /// none): the exact transform of Felzenszwalb and Huttenlocher (2012), by rows then columns.

@@ -372,7 +372,9 @@ pub fn measure(
         let samples = Samples::gather(&views)?;
         // Paintings are opaque: the pattern is the same for every model and fault, unless
         // each model's light was registered.
-        if reading.register_light || prepared.as_ref().is_none_or(|p| p.samples() != samples.len()) {
+        // As `brdfpaint fit` does: headlit paintings get the light prior.
+        let settings = &settings.for_pattern(&samples.pattern);
+        if reading.register_light || prepared.as_ref().is_none_or(|p| p.samples() != samples.len() || p.settings() != settings) {
             prepared = Some(crate::factor::prepare(&samples.pattern, settings)?);
         }
         let p = prepared.as_ref().ok_or_else(|| Error::Numeric("no prepared system".into()))?;
