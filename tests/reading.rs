@@ -225,9 +225,10 @@ fn stray_strokes_are_repainted_and_clean_paintings_are_not() {
             assert_eq!(views[0].painting.pixels, pixels, "{}", model.name());
         }
     }
-    // Nor do single-view renders of the wide suite, under the standard and the side and rim
-    // presets' lights.
-    for preset in [painted_presets(1)[0], brdfpaint::scene::preset("side").unwrap(), brdfpaint::scene::preset("rim").unwrap()] {
+    // Nor do single-view renders of the wide suite, under the standard and the side, rim
+    // and headlight presets' lights.
+    let preset = |name: &str| brdfpaint::scene::preset(name).unwrap();
+    for preset in [painted_presets(1)[0], preset("side"), preset("rim"), preset("front")] {
         let view = FaultyView::new(&mut sampler, &preset, SIZE, 0.0).unwrap();
         for model in Analytic::wide_suite() {
             let mut views = vec![faults::paint(&view, &model, &Faults::clean()).unwrap()];

@@ -10,7 +10,9 @@
 //! rest ([`fill`]: left out, they would leave holes where the tables extrapolate).
 //!
 //! A sample is a stray when the factored least-squares fit of the painting (thesis eq. 3.9,
-//! offset mapping) misses it by far more than it misses the painting as a whole: its largest
+//! offset mapping; with the light prior when the painting is headlit, as `fit` has it:
+//! without, that fit of a headlit painting missed its median sample by a log ratio of about
+//! 1 and no stroke stood out) misses it by far more than it misses the painting as a whole: its largest
 //! per-channel log ratio $|\ln((y + \epsilon) / (f + \epsilon))|$ (the floor $\epsilon$ is
 //! [`FLOOR`] of the brightest value) exceeds [`SPREAD`] robust standard deviations of all
 //! samples' (from their median absolute value) and at least [`MIN_RATIO`]. Strokes are
@@ -88,7 +90,8 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings) -> Result<Option<
         if n == 0 {
             break;
         }
-        let prepared = crate::factor::prepare(&samples.pattern, settings)?;
+        // As the fit has it: a headlit painting's light factor drawn to its physical shape.
+        let prepared = crate::factor::prepare(&samples.pattern, &settings.for_pattern(&samples.pattern))?;
         let fit = prepared.solve(&samples.values, Mapping::Offset(None))?;
         let predicted = prepared.predict(&fit.tables, &fit.map);
         let peak = samples.values.iter().flatten().copied().fold(0.0, f64::max);
