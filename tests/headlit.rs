@@ -48,7 +48,7 @@ fn a_headlit_painting_with_black_strokes_does_not_collapse() {
 /// Rough diffuse materials painted lit from the front, with brush texture or every fault:
 /// the light sweep's darkest frame is at most half its brightest (issue 11's target). A
 /// headlit Minnaert painting with brush texture was held best by a lobe over an ambient and
-/// kept 62% of its brightness with the light behind it (256²). At 128², without the prior
+/// kept 53% of its brightness with the light behind it (256²). At 128², without the prior
 /// and the headlit lobe rule: held-out 0.62–0.89 (measured now: 0.016–0.27, worst Oren-Nayar
 /// with every fault).
 #[test]

@@ -343,7 +343,7 @@ impl Base {
     /// falls slowly toward the rim (Oren-Nayar's, Minnaert's), and an ambient stays lit with
     /// the light behind: a headlit Minnaert painting with brush texture was held best by a
     /// Blinn-Phong lobe over an ambient (misfit 0.0505; 0.0507 for the best lobe without
-    /// one), and its material kept 62% of its brightness with the light behind (the truth:
+    /// one), and its material kept 53% of its brightness with the light behind (the truth:
     /// none). There the families are fitted without an ambient, and the best one with an
     /// ambient is kept only where it holds the painting clearly better
     /// ([`HEADLIT_AMBIENT_GAIN`]): a Gooch painting's cool rim.
