@@ -29,6 +29,7 @@
 //! the light moved on a sphere about each point (exact for a distant light; the falloff is
 //! kept).
 
+use rayon::prelude::*;
 use glam::{DQuat, DVec3};
 
 use super::{proxy, Geometry, PaintedView, Samples};
@@ -245,11 +246,10 @@ pub fn register(views: &mut [PaintedView], gbuffers: &[&GBuffer], settings: &Set
         }
         let mut step = coarse;
         loop {
-            for (a, b) in candidates.drain(..) {
-                if (a == 0.0 && b == 0.0) || a.hypot(b) > RADIUS_DEG * 1.001 {
-                    continue;
-                }
-                let s = evaluate(a, b);
+            // Scored in parallel, kept in order (the first of equals, as one by one).
+            candidates.retain(|&(a, b)| !(a == 0.0 && b == 0.0) && a.hypot(b) <= RADIUS_DEG * 1.001);
+            let scores: Vec<f64> = candidates.par_iter().map(|&(a, b)| evaluate(a, b)).collect();
+            for ((a, b), s) in candidates.drain(..).zip(scores) {
                 if s < best.2 {
                     best = (a, b, s);
                 }

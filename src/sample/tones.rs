@@ -27,6 +27,8 @@
 //! [`MAX_LEVELS`] distinct 8-bit codes and some channel at least [`MIN_LEVELS`]: two tones are a
 //! toon style to keep, hundreds a painted gradient.
 
+use rayon::prelude::*;
+
 use super::{proxy, PaintedView};
 use crate::factor::base::Lobe;
 use crate::images::{linear_to_srgb, srgb_to_linear};
@@ -61,19 +63,14 @@ impl Toned {
 /// Reconstructs a toned view's painting in place (module doc); `None`, untouched, when the
 /// painting is not toned.
 pub fn smooth(view: &mut PaintedView) -> Option<Toned> {
-    let (w, h) = (view.painting.width, view.painting.height);
+    let w = view.painting.width;
     let samples = view.geometry.sample_pixels(&view.painting);
     if samples.len() < MIN_SAMPLES {
         return None;
     }
-    let mut inside = vec![false; w * h];
-    for &k in &samples {
-        inside[k] = true;
-    }
     let codes: Vec<[u8; 3]> = view.painting.pixels.iter().map(|p| p.map(|x| (linear_to_srgb(x) * 255.0).round().clamp(0.0, 255.0) as u8)).collect();
     let mut levels = [0usize; 3];
     let mut bounds: Vec<(usize, [[f64; 2]; 3])> = samples.iter().map(|&k| (k, [[0.0, f64::INFINITY]; 3])).collect();
-    let slot: std::collections::HashMap<usize, usize> = samples.iter().enumerate().map(|(i, &k)| (k, i)).collect();
     let mut tables: Vec<Vec<u8>> = Vec::new();
     for c in 0..3 {
         let mut seen = [false; 256];
@@ -87,39 +84,55 @@ pub fn smooth(view: &mut PaintedView) -> Option<Toned> {
     if levels.iter().any(|&n| n > MAX_LEVELS) || levels.iter().all(|&n| n < MIN_LEVELS) {
         return None;
     }
+    // The distance transforms run on the samples' bounding box (every tone, so every edge,
+    // lies inside it), one tone per thread: a 512² painting of 6 levels takes 36 of them.
+    let crop = Crop::around(&samples, w);
+    let local: Vec<usize> = samples.iter().map(|&k| crop.local(k, w)).collect();
     for (c, table) in tables.iter().enumerate() {
         if table.len() < 2 {
             continue;
         }
-        let index: Vec<Option<usize>> =
-            (0..w * h).map(|k| inside[k].then(|| table.binary_search(&codes[k][c]).unwrap_or(0))).collect();
+        let mut index: Vec<Option<usize>> = vec![None; crop.w * crop.h];
+        for (&k, &l) in samples.iter().zip(&local) {
+            index[l] = Some(table.binary_search(&codes[k][c]).unwrap_or(0));
+        }
         let value = |i: usize| table[i] as f64 / 255.0;
-        for i in 0..table.len() {
-            let region: Vec<usize> = samples.iter().copied().filter(|&k| index[k] == Some(i)).collect();
-            if region.is_empty() {
-                continue;
-            }
-            let below = distance_to(&index.iter().map(|x| x.is_some_and(|j| j < i)).collect::<Vec<_>>(), w, h);
-            let above = distance_to(&index.iter().map(|x| x.is_some_and(|j| j > i)).collect::<Vec<_>>(), w, h);
-            // The edges' values: midpoints to the neighbouring levels, or half a step beyond
-            // this level where there is no neighbour on that side.
-            let step_lo = if i > 0 { value(i) - value(i - 1) } else { value(i + 1) - value(i) };
-            let step_hi = if i + 1 < table.len() { value(i + 1) - value(i) } else { value(i) - value(i - 1) };
-            let (lo, hi) = (value(i) - step_lo / 2.0, value(i) + step_hi / 2.0);
-            let far = |d: &[f64]| region.iter().map(|&k| d[k]).filter(|d| d.is_finite()).fold(0.0, f64::max).max(1.0);
-            let (far_below, far_above) = (far(&below), far(&above));
-            for &k in &region {
-                let (db, da) = (below[k], above[k]);
-                let x = match (db.is_finite(), da.is_finite()) {
-                    (true, true) => lo + (hi - lo) * db / (db + da),
-                    // The brightest region of its neighbourhood: from its lower edge up.
-                    (true, false) => lo + (hi - lo) * (db / far_below),
-                    (false, true) => hi - (hi - lo) * (da / far_above),
-                    (false, false) => value(i),
-                };
-                view.painting.pixels[k][c] = srgb_to_linear(x.clamp(0.0, 1.0) as f32);
-                bounds[slot[&k]].1[c] = [lo, hi].map(|b| srgb_to_linear(b.clamp(0.0, 1.0) as f32) as f64);
-            }
+        // Per tone: each of its samples' reconstructed value and interval (sRGB code units).
+        let tones: Vec<Vec<(usize, f64, [f64; 2])>> = (0..table.len())
+            .into_par_iter()
+            .map(|i| {
+                let region: Vec<usize> = (0..samples.len()).filter(|&s| index[local[s]] == Some(i)).collect();
+                if region.is_empty() {
+                    return Vec::new();
+                }
+                let below = distance_to(&index.iter().map(|x| x.is_some_and(|j| j < i)).collect::<Vec<_>>(), crop.w, crop.h);
+                let above = distance_to(&index.iter().map(|x| x.is_some_and(|j| j > i)).collect::<Vec<_>>(), crop.w, crop.h);
+                // The edges' values: midpoints to the neighbouring levels, or half a step
+                // beyond this level where there is no neighbour on that side.
+                let step_lo = if i > 0 { value(i) - value(i - 1) } else { value(i + 1) - value(i) };
+                let step_hi = if i + 1 < table.len() { value(i + 1) - value(i) } else { value(i) - value(i - 1) };
+                let (lo, hi) = (value(i) - step_lo / 2.0, value(i) + step_hi / 2.0);
+                let far = |d: &[f64]| region.iter().map(|&s| d[local[s]]).filter(|d| d.is_finite()).fold(0.0, f64::max).max(1.0);
+                let (far_below, far_above) = (far(&below), far(&above));
+                region
+                    .iter()
+                    .map(|&s| {
+                        let (db, da) = (below[local[s]], above[local[s]]);
+                        let x = match (db.is_finite(), da.is_finite()) {
+                            (true, true) => lo + (hi - lo) * db / (db + da),
+                            // The brightest region of its neighbourhood: from its lower edge up.
+                            (true, false) => lo + (hi - lo) * (db / far_below),
+                            (false, true) => hi - (hi - lo) * (da / far_above),
+                            (false, false) => value(i),
+                        };
+                        (s, x, [lo, hi])
+                    })
+                    .collect()
+            })
+            .collect();
+        for (s, x, [lo, hi]) in tones.into_iter().flatten() {
+            view.painting.pixels[samples[s]][c] = srgb_to_linear(x.clamp(0.0, 1.0) as f32);
+            bounds[s].1[c] = [lo, hi].map(|b| srgb_to_linear(b.clamp(0.0, 1.0) as f32) as f64);
         }
     }
     Some(Toned { levels, bounds })
@@ -336,21 +349,22 @@ fn family(
     let stride = luminance.len().div_ceil(SEARCH_SAMPLES).max(1);
     let search: Vec<usize> = (0..luminance.len()).step_by(stride).collect();
     let search_start: Vec<f64> = search.iter().map(|&i| start[i]).collect();
-    let mut best: Option<(f64, Lobe, f64)> = None;
-    for lobe in Lobe::ALL {
-        let widths = if lobe.has_width() { ALPHAS } else { 1 };
-        for k in 0..widths {
-            let alpha = if lobe.has_width() { ALPHA_MIN * (ALPHA_MAX / ALPHA_MIN).powf(k as f64 / (ALPHAS - 1) as f64) } else { 1.0 };
+    let candidates: Vec<(Lobe, f64)> = Lobe::ALL
+        .iter()
+        .flat_map(|&lobe| {
+            let widths = if lobe.has_width() { ALPHAS } else { 1 };
+            (0..widths).map(move |k| (lobe, if lobe.has_width() { ALPHA_MIN * (ALPHA_MAX / ALPHA_MIN).powf(k as f64 / (ALPHAS - 1) as f64) } else { 1.0 }))
+        })
+        .collect();
+    // Each candidate on its own thread; the least outside wins, the first of equals.
+    let (_, _, lobe, alpha) = candidates
+        .par_iter()
+        .enumerate()
+        .filter_map(|(n, &(lobe, alpha))| {
             let pts = points(&shapes(lobe, alpha, &search), &search);
-            if let Some((x, _)) = proxy::fit_within(&pts, &search_start) {
-                let m = outside(&pts, &search_start, &x);
-                if best.is_none_or(|b| m < b.0) {
-                    best = Some((m, lobe, alpha));
-                }
-            }
-        }
-    }
-    let (_, lobe, alpha) = best?;
+            proxy::fit_within(&pts, &search_start).map(|(x, _)| (outside(&pts, &search_start, &x), n, lobe, alpha))
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))?;
     let all: Vec<usize> = (0..luminance.len()).collect();
     let shapes = shapes(lobe, alpha, &all);
     let pts = points(&shapes, &all);
@@ -369,6 +383,31 @@ fn family(
 /// under every other light: there the family only when clearly better (at 1, headlit
 /// Lambert with every fault went 0.067 → 0.153).
 const LOBE_MARGIN: f64 = 2.0;
+
+/// A rectangle of an image `w` pixels wide: the bounding box of some of its pixels.
+struct Crop {
+    x0: usize,
+    y0: usize,
+    w: usize,
+    h: usize,
+}
+
+impl Crop {
+    /// The bounding box of `pixels` (not empty) of an image `w` wide.
+    fn around(pixels: &[usize], w: usize) -> Crop {
+        let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
+        for &k in pixels {
+            let (x, y) = (k % w, k / w);
+            (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+        }
+        Crop { x0, y0, w: x1 + 1 - x0, h: y1 + 1 - y0 }
+    }
+
+    /// Pixel `k` of the image (inside the box) as an index into the box.
+    fn local(&self, k: usize, w: usize) -> usize {
+        (k / w - self.y0) * self.w + (k % w - self.x0)
+    }
+}
 
 /// Euclidean distance from each pixel to the nearest `set` pixel (infinite when there is
 /// none): the exact transform of Felzenszwalb and Huttenlocher (2012), by rows then columns.
