@@ -373,6 +373,7 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
         Kind::Uniform | Kind::FourFactor => settings.for_pattern(&samples.pattern),
         Kind::MaterialMap | Kind::Hybrid => settings,
     };
+    let headlit = settings.light_prior.is_some() && opts.settings.light_prior.is_none();
     let solved = solve(&samples, &settings, opts.mapping, cache)?;
     let provenance = provenance(sources(views), Some(solved.fit.errors), samples.len(), solved.prepare_s, solved.solve_s);
     let mut uniform = Material::from_fit(&settings, &solved.fit, provenance.clone())?;
@@ -398,6 +399,11 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
     };
     let mut fitted = Fitted { material, samples, solved, map };
     fitted.material.provenance.notes = diagnose(views, &fitted, opts.kind);
+    if headlit {
+        fitted.material.provenance.notes.push(
+            "the paintings are lit from the eye: they show each point under one angle between light, view and normal, so the shading's falloff was given to the light (as cos θ_l) where they leave it open; a second view painted under a side light (--scene S2 --image P2) shows how the material answers a moving light".to_string(),
+        );
+    }
     if added && opts.difference == DifferenceChoice::Auto {
         let [lo, hi] = difference_range(&fitted.samples.pattern);
         fitted.material.provenance.notes.push(format!(

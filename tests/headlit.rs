@@ -106,3 +106,19 @@ fn stray_strokes_on_headlit_paintings_are_repainted() {
     // Measured: 0.0036 (0.148 at 256² with the strokes kept).
     assert!(rows[0].held_out < 0.05, "held-out {}", rows[0].held_out);
 }
+
+/// `fit` says when the paintings are headlit, and what would pin the material down: a note
+/// in the material's provenance (and on the terminal). Front-left paintings get none.
+#[test]
+fn fit_says_when_the_paintings_are_headlit() {
+    let mut sampler = SceneSampler::new().unwrap();
+    let model = faults::suite().into_iter().find(|m| m.name() == "lambert").unwrap();
+    for (name, headlit) in [("front", true), ("front-left", false)] {
+        let view = FaultyView::new(&mut sampler, &preset(name).unwrap(), SIZE, 0.0).unwrap();
+        let views = vec![faults::paint(&view, &model, &Faults::clean()).unwrap()];
+        let opts = brdfpaint::pipeline::Options { base: BaseChoice::Auto, ..Default::default() };
+        let fitted = brdfpaint::pipeline::fit(&views, &opts, None).unwrap();
+        let notes = &fitted.material.provenance.notes;
+        assert_eq!(notes.iter().any(|n| n.contains("lit from the eye") && n.contains("side light")), headlit, "{name}: {notes:#?}");
+    }
+}
