@@ -243,7 +243,8 @@ pub mod defaults {
     /// when the paintings are headlit ([`super::Settings::for_pattern`]). Chosen on the
     /// faults study's headlit paintings (`cargo run --release --example faults -- --read
     /// --front`; BENCHMARKS.md, "Headlit paintings"): at 1e-5 the worst held-out view with
-    /// every fault was 0.64, at 1e-4 0.42, at 1e-3 0.55.
+    /// every fault was 0.64, at 1e-4 0.42, at 1e-3 0.55 (before the headlit lobes' ambient
+    /// rule, `base::HEADLIT_AMBIENT_GAIN`).
     pub const DAMP_HEADLIT: f64 = 1e-4;
     /// The light prior's floor behind the surface, a fraction of the painting's largest
     /// value ([`super::Settings::light_prior`]).
