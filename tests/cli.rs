@@ -81,13 +81,19 @@ fn bench_json_has_the_documented_fields() {
     // the 256² four-factor product at two sample counts; Table 5.3: 4 term counts x 2
     // resolutions x 2 fits; Table 5.4: 5 term counts x 2 fits + the four-factor product; GL:
     // factored (1D, 2D) against GGX at 512² and 1024²; environments: preparation of the two
-    // bundled ones and 3 frame cases; the live-paint stroke -> frame case.
-    assert_eq!(cases.len(), 57);
+    // bundled ones and 3 frame cases; the live-paint stroke -> frame case; read + fit of a
+    // 512² painting, as rendered and in flat tones.
+    assert_eq!(cases.len(), 59);
     let name = |c: &&serde_json::Value| c["case"].as_str().unwrap().to_string();
     let (maps, rest): (Vec<_>, Vec<_>) = cases.iter().partition(|c| name(c).starts_with("table5.3"));
     let (fidelity, rest): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("table5.4"));
     let (factor, rest): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("table") || name(c).contains("uv=256"));
     let (live, rest): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("live paint"));
+    let (read_fit, rest): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("read + fit"));
+    assert_eq!(read_fit.len(), 2);
+    for c in &read_fit {
+        assert!(c["time_s"].as_f64().unwrap() > 0.0 && c["samples"].as_u64().unwrap() > 100_000, "{c}");
+    }
     let (env, gl): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("env prepare") || name(c).starts_with("gl env"));
     assert_eq!(env.len(), 5);
     for c in &env {

@@ -28,7 +28,15 @@ pub(super) fn run(json: bool, quick: bool) -> Result<()> {
             None
         }
     };
+    let read_fit = match brdfpaint::study::bench::read_fit_cases(quick) {
+        Ok(c) => Some(c),
+        Err(e) => {
+            eprintln!("warning: read + fit cases skipped: {e}");
+            None
+        }
+    };
     if json {
+        cases.extend(read_fit.iter().flatten().cloned());
         if let Some((gl_cases, _)) = &gl {
             cases.extend(gl_cases.iter().cloned());
         }
@@ -51,6 +59,12 @@ pub(super) fn run(json: bool, quick: bool) -> Result<()> {
             println!();
             print!("{}", brdfpaint::study::bench::env_table(env));
             println!("environment: median frames (clear, draw, glFinish) with the key light and the background, interleaved with the point-light frame");
+        }
+        if let Some(read_fit) = &read_fit {
+            println!();
+            for c in read_fit {
+                println!("{}: {} samples, {:.0} ms (median; `fit --scene` without start-up and files)", c.case, c.samples.unwrap_or(0), c.time_s.unwrap_or(0.0) * 1e3);
+            }
         }
         if let Some(c) = &live {
             println!();
