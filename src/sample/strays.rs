@@ -12,10 +12,11 @@
 //! A sample is a stray when the factored least-squares fit of the painting (thesis eq. 3.9,
 //! offset mapping; with the light prior when the painting is headlit, as `fit` has it:
 //! without, that fit of a headlit painting missed its median sample by a log ratio of about
-//! 1 and no stroke stood out) misses it by far more than it misses the painting as a whole: its largest
-//! per-channel log ratio $|\ln((y + \epsilon) / (f + \epsilon))|$ (the floor $\epsilon$ is
-//! [`FLOOR`] of the brightest value) exceeds [`SPREAD`] robust standard deviations of all
-//! samples' (from their median absolute value) and at least [`MIN_RATIO`]. Strokes are
+//! 1 and no stroke stood out) misses it by far more than it misses the painting as a whole:
+//! its largest per-channel log ratio $|\ln((y + \epsilon) / (f + \epsilon))|$ (the floor
+//! $\epsilon$ is [`FLOOR`] of the brightest value) exceeds [`SPREAD`] robust standard
+//! deviations of all samples' (from their median absolute value) and at least
+//! [`MIN_RATIO`]. Strokes are
 //! connected and their rims blend into the shading, so the set grows into neighbours missed
 //! by half as much, up to three pixels. Strays pull the fit towards themselves, so the search
 //! runs twice, the second time without the first's strays. A painting whose

@@ -370,10 +370,10 @@ pub fn measure(
         let mut views: Vec<PaintedView> = painted.iter().map(|v| paint(v, model, faults)).collect::<Result<_>>()?;
         crate::pipeline::read(&mut views, &gbuffers, &reading)?;
         let samples = Samples::gather(&views)?;
-        // Paintings are opaque: the pattern is the same for every model and fault, unless
-        // each model's light was registered.
         // As `brdfpaint fit` does: headlit paintings get the light prior.
         let settings = &settings.for_pattern(&samples.pattern);
+        // Paintings are opaque: the pattern is the same for every model and fault, unless
+        // each model's light was registered.
         if reading.register_light || prepared.as_ref().is_none_or(|p| p.samples() != samples.len() || p.settings() != settings) {
             prepared = Some(crate::factor::prepare(&samples.pattern, settings)?);
         }
