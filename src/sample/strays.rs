@@ -16,9 +16,8 @@
 //! its largest per-channel log ratio $|\ln((y + \epsilon) / (f + \epsilon))|$ (the floor
 //! $\epsilon$ is [`FLOOR`] of the brightest value) exceeds [`SPREAD`] robust standard
 //! deviations of all samples' (from their median absolute value) and at least
-//! [`MIN_RATIO`]. Strokes are
-//! connected and their rims blend into the shading, so the set grows into neighbours missed
-//! by half as much, up to three pixels. Strays pull the fit towards themselves, so the search
+//! [`MIN_RATIO`]. Strokes are connected and their rims blend into the shading, so the set
+//! grows into neighbours missed by half as much, up to three pixels. Strays pull the fit towards themselves, so the search
 //! runs twice, the second time without the first's strays. A painting whose
 //! misses gather in blobs smaller than 0.2% of its samples (at least 8 pixels) has none
 //! there (a render's misfit along a highlight's or a rim crescent's edge); one whose misses
