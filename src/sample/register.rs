@@ -225,7 +225,9 @@ pub fn register(views: &mut [PaintedView], gbuffers: &[&GBuffer], settings: &Set
     for i in 0..views.len() {
         let g = gbuffers[i];
         let original = views[i].geometry.clone();
-        let search = Search::new(&Samples::gather(views)?, i, g);
+        // The views as given: searched, then explained before any turn.
+        let gathered = Samples::gather(views)?;
+        let search = Search::new(&gathered, i, g);
         // Two axes perpendicular to the light: turning about them moves the light's
         // direction; turning about the light itself would not.
         let (u, w) = search.light.any_orthonormal_pair();
@@ -270,7 +272,6 @@ pub fn register(views: &mut [PaintedView], gbuffers: &[&GBuffer], settings: &Set
         // The fit that judges the turn is `fit`'s: under a headlight, with the light prior
         // (without it a headlit painting with black strokes was explained to 1.000 and turned
         // 20° for 0.054), the same settings before and after.
-        let gathered = Samples::gather(views)?;
         let settings = &settings.for_pattern(&gathered.pattern);
         let before = explained(&gathered, settings)?;
         let mut turn = Turn::kept(before);
