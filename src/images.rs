@@ -196,19 +196,19 @@ pub fn neighbours8(k: usize, width: usize, len: usize) -> impl Iterator<Item = u
         .map(move |(x, y)| y as usize * width + x as usize)
 }
 
-/// Clears the 8-connected components of `mask` (a grid `width` to a row) smaller than
-/// `least` pixels.
-pub fn drop_small_components(mask: &mut [bool], width: usize, least: usize) {
+/// The 8-connected components of `mask` (a grid `width` to a row), each as its pixels.
+pub fn components(mask: &[bool], width: usize) -> Vec<Vec<usize>> {
     let len = mask.len();
     let mut seen = vec![false; len];
-    let (mut stack, mut component) = (Vec::new(), Vec::new());
+    let mut stack = Vec::new();
+    let mut out = Vec::new();
     for start in 0..len {
         if !mask[start] || seen[start] {
             continue;
         }
         seen[start] = true;
         stack.push(start);
-        component.clear();
+        let mut component = Vec::new();
         while let Some(k) = stack.pop() {
             component.push(k);
             for n in neighbours8(k, width, len) {
@@ -218,8 +218,17 @@ pub fn drop_small_components(mask: &mut [bool], width: usize, least: usize) {
                 }
             }
         }
+        out.push(component);
+    }
+    out
+}
+
+/// Clears the 8-connected components of `mask` (a grid `width` to a row) smaller than
+/// `least` pixels.
+pub fn drop_small_components(mask: &mut [bool], width: usize, least: usize) {
+    for component in components(mask, width) {
         if component.len() < least {
-            for &k in &component {
+            for k in component {
                 mask[k] = false;
             }
         }

@@ -238,6 +238,35 @@ fn stray_strokes_are_repainted_and_clean_paintings_are_not() {
     }
 }
 
+/// A glossy sphere in flat tones is a dark body round a few rings of highlight, which the
+/// smooth tables miss by far more than the rest. Before `strays` kept highlights, the GGX
+/// 0.2 painting with every fault had its highlight repainted at brush seeds 4, 5 and 6 of
+/// eight (held-out error 0.96–1.03; all 137 of the highlight's pixels at seed 4): the
+/// stray strokes at the outline must still be found, and at most a tenth of the highlight
+/// (where the clean painting is above a tenth of its peak; 3 of 137 now, at its rim)
+/// repainted.
+#[test]
+fn a_highlight_in_flat_tones_is_not_a_stray() {
+    let mut sampler = SceneSampler::new().unwrap();
+    let view = FaultyView::new(&mut sampler, &painted_presets(1)[0], 256, 10.0).unwrap();
+    let model = faults::suite().into_iter().find(|m| m.name() == "ggx-0.2").unwrap();
+    let clean = faults::paint(&view, &model, &Faults { brush: 0.0, strays: 0, noise: 0.0, levels: 0, ..Faults::all() }).unwrap();
+    let peak = clean.painting.pixels.iter().map(|p| p[1]).fold(0.0, f32::max);
+    let area = clean.painting.pixels.iter().filter(|p| p[1] > 0.1 * peak).count();
+    for seed in [4, 5, 6] {
+        let f = Faults { seed, ..Faults::all() };
+        let mut views = vec![faults::paint(&view, &model, &f).unwrap()];
+        tones::smooth(&mut views[0]).expect("toned");
+        let found = strays::repaint(&mut views, &Settings::default()).unwrap().expect("strays");
+        let highlight = found.per_view[0].iter().filter(|&&k| clean.painting.pixels[k][1] > 0.1 * peak).count();
+        let theta_h = |k: usize| views[0].geometry.pixels[k].as_ref().map(|p| (p.query.l + p.query.v).normalize().z.acos().to_degrees());
+        let outline = found.per_view[0].iter().filter(|&&k| theta_h(k).is_some_and(|t| t > 40.0)).count();
+        eprintln!("seed {seed}: {} repainted, {highlight} of the highlight's {area}, {outline} beyond 40° of θ_h", found.per_view[0].len());
+        assert!(highlight * 10 <= area, "seed {seed}: {highlight} of {area}");
+        assert!(outline > 500, "seed {seed}: {outline}");
+    }
+}
+
 #[test]
 fn paintings_with_every_fault_generalize() {
     let mut sampler = SceneSampler::new().unwrap();
