@@ -3,7 +3,10 @@
 //! by the robust fit (`Prepared::solve_robust`), judged on held-out lights and views against
 //! the clean truth; and light sweeps of materials painted lit from the front.
 //!
-//! `cargo run --release --example faults [-- SIZE] [--models] [--only CASE] [--read] [--base auto|none|ggx]`
+//! `cargo run --release --example faults [-- SIZE] [--models] [--only CASE] [--read] [--base auto|none|ggx] [--seed N]`
+//!
+//! `--seed N` draws the faults (brush strokes, strays, noise) from seed N instead of the
+//! study's 11.
 //!
 //! The analytic base is chosen as `brdfpaint fit` chooses it (`auto`) unless `--base` says.
 
@@ -28,9 +31,12 @@ fn summary(rows: &[Row]) -> String {
 
 fn main() -> brdfpaint::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let size = args.iter().find_map(|a| a.parse().ok()).unwrap_or(256);
+    // The size is the first bare number (not `--seed`'s).
+    let size = args.iter().enumerate().find_map(|(i, a)| a.parse().ok().filter(|_| i == 0 || args[i - 1] != "--seed")).unwrap_or(256);
     let per_model = args.iter().any(|a| a == "--models");
     let only = args.iter().position(|a| a == "--only").and_then(|i| args.get(i + 1)).cloned();
+    let seed: Option<u64> = args.iter().position(|a| a == "--seed").and_then(|i| args.get(i + 1)).map(|s| s.parse().expect("--seed takes a number"));
+    let seeded = |f: Faults| Faults { seed: seed.unwrap_or(f.seed), ..f };
     let settings = Settings::default();
     // `--base none|auto|ggx`: the analytic base (`brdfpaint fit`'s default, auto, unless told).
     let base_choice: BaseChoice = match args.iter().position(|a| a == "--base") {
@@ -93,6 +99,7 @@ fn main() -> brdfpaint::Result<()> {
         if only.as_deref().is_some_and(|o| o != case) {
             continue;
         }
+        let f = seeded(f);
         let painted = [FaultyView::new(&mut sampler, &painted_presets(1)[0], size, f.light_off_deg)?];
         for &(name, solve) in &solvers {
             let rows = faults::measure(&painted, &held, &models, &settings, &f, solve, register, base_choice)?;
@@ -115,6 +122,7 @@ fn main() -> brdfpaint::Result<()> {
         if only.as_deref().is_some_and(|o| o != case) {
             continue;
         }
+        let f = seeded(f);
         let painted = [FaultyView::new(&mut sampler, &front, size, f.light_off_deg)?];
         for &(name, solve) in &solvers {
             let rows = faults::measure(&painted, &held, &models, &settings, &f, solve, register, base_choice)?;
