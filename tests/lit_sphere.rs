@@ -269,4 +269,16 @@ fn dragging_the_light_of_a_live_lit_sphere_refits_as_fit_with_that_light() {
     let q = brdfpaint::factor::Query { l: target, v: DVec3::Z, uv: glam::DVec2::ZERO };
     let (a, b) = (live.shading(&q), cli.fitted.material.shading(&q));
     assert!((0..3).all(|c| (a[c] - b[c]).abs() <= 1e-9 * b[c].abs().max(1e-9)), "{a:?} vs {b:?}");
+
+    // Dropped, the session has ended its render thread (and destroyed that thread's GL
+    // context): one left to end by itself raced the process's exit, and Mesa's exit
+    // handlers corrupted the heap (`viewer_ui` aborted after passing, about one run in 15).
+    let render_threads = || {
+        std::fs::read_dir("/proc/self/task")
+            .map(|tasks| tasks.filter_map(|t| std::fs::read_to_string(t.ok()?.path().join("comm")).ok()).filter(|c| c.trim() == "lit sphere view").count())
+            .unwrap_or(0)
+    };
+    assert_eq!(render_threads(), 1, "the drag's render thread runs");
+    drop(sphere);
+    assert_eq!(render_threads(), 0, "the render thread outlived its session");
 }
