@@ -64,15 +64,28 @@ pub struct Turn {
     pub rotation: DQuat,
     /// Its angle in degrees.
     pub degrees: f64,
-    /// Relative RMS of the factored fit with the scene's light, and with the turned one.
+    /// Relative RMS of the factored fit with the scene's light, and with the turned one;
+    /// for a turn judged on a toned painting's tones (`by_tones`), how far the tones' best
+    /// reading leaves their intervals ([`crate::sample::tones::Luminance::outside`]).
     pub before: f64,
     pub after: f64,
+    /// Whether the turn was judged on the tones rather than on the factored fit.
+    pub by_tones: bool,
+    /// The search's best rotation, kept or not (identity when it found no turn worth one).
+    pub proposed: DQuat,
 }
 
 impl Turn {
     /// The scene's light, kept.
     pub(crate) fn kept(score: f64) -> Turn {
-        Turn { rotation: DQuat::IDENTITY, degrees: 0.0, before: score, after: score }
+        Turn { rotation: DQuat::IDENTITY, degrees: 0.0, before: score, after: score, by_tones: false, proposed: DQuat::IDENTITY }
+    }
+
+    /// A turn by `rotation` that took the painting's misfit from `before` to `after`
+    /// (`by_tones`: the tones' misfit).
+    pub(crate) fn by(rotation: DQuat, before: f64, after: f64, by_tones: bool) -> Turn {
+        let degrees = rotation.to_axis_angle().1.to_degrees();
+        Turn { rotation, degrees, before, after, by_tones, proposed: rotation }
     }
 
     /// Whether the light was moved.
@@ -280,9 +293,10 @@ pub fn register(views: &mut [PaintedView], gbuffers: &[&GBuffer], settings: &Set
             views[i].geometry = turned(g, &original, rotation);
             let after = explained(&Samples::gather(views)?, settings)?;
             if after <= (1.0 - MIN_GAIN) * before && (after <= MAX_RESIDUAL || after <= CLEAR_GAIN * before) {
-                turn = Turn { rotation, degrees, before, after };
+                turn = Turn { rotation, degrees, before, after, by_tones: false, proposed: rotation };
             } else {
                 views[i].geometry = original;
+                turn.proposed = rotation;
             }
         }
         turns.push(turn);
@@ -292,6 +306,12 @@ pub fn register(views: &mut [PaintedView], gbuffers: &[&GBuffer], settings: &Set
 
 /// What the user hears about a view whose light was moved.
 pub fn describe(view: &PaintedView, turn: &Turn) -> String {
+    if turn.by_tones {
+        return format!(
+            "{}: the painting's tones look lit {:.0}° away from the scene's light (their edges missed by {:.3} → {:.3} with the light turned); fitted with the painting's light (--keep-light uses the scene's as given)",
+            view.name, turn.degrees, turn.before, turn.after
+        );
+    }
     format!(
         "{}: the painting looks lit {:.0}° away from the scene's light (relative RMS {:.3} → {:.3} with the light turned); fitted with the painting's light (--keep-light uses the scene's as given)",
         view.name, turn.degrees, turn.before, turn.after
