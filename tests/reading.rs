@@ -267,29 +267,31 @@ fn a_highlight_in_flat_tones_is_not_a_stray() {
     }
 }
 
-/// GGX 0.2 in flat tones with every fault, at brush seed 5: the proxy search finds the
+/// GGX 0.2 in flat tones with every fault. At brush seed 5 the proxy search finds the
 /// painter's light (8° off the scene's), but the factored fit, its misfit dominated by the
 /// stray strokes, gains only 8% from it (a turn needs 10%, and half when the fit stays
-/// poor), and after the strays are repainted the search finds 2.5°. The tones' edges are
-/// missed by 0.217 under the scene's light and 0.019 under the 8° turn: judged on them, the
-/// turn is taken, and the highlight sits where it was painted. Held-out error 0.852 before,
-/// 0.232 now.
+/// poor), and after the strays are repainted the search finds 2.5°; the tones' edges are
+/// missed by 0.217 under the scene's light and 0.019 under the 8° turn. At seed 6 the fit
+/// gains 31% from the 8° turn after the strays, the tones 40%: the two judges agree. Taken,
+/// the highlight sits where it was painted: held-out error 0.852 → 0.232 and 0.996 → 0.460.
 #[test]
 fn a_toned_paintings_light_is_taken_from_its_tones_when_the_fit_cannot_tell() {
     let mut sampler = SceneSampler::new().unwrap();
     let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, 256).unwrap()).collect();
-    let f = Faults { seed: 5, ..Faults::all() };
-    let painted = FaultyView::new(&mut sampler, &painted_presets(1)[0], 256, f.light_off_deg).unwrap();
-    let model = faults::suite().into_iter().find(|m| m.name() == "ggx-0.2").unwrap();
-    let mut views = vec![faults::paint(&painted, &model, &f).unwrap()];
-    let notes = pipeline::read(&mut views, &[&painted.view.gbuffer], &Reading::default()).unwrap();
-    let turn = notes.iter().find(|n| n.contains("tones look lit")).unwrap_or_else(|| panic!("{notes:#?}"));
-    let degrees: f64 = turn.split("look lit ").nth(1).and_then(|r| r.split('°').next()).and_then(|d| d.parse().ok()).unwrap();
-    assert!((6.0..=10.0).contains(&degrees), "{turn}");
-    let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
-    let rows = faults::measure(&[painted], &held, &[model], &Settings::default(), &f, &plain, Reading::default(), brdfpaint::factor::base::BaseChoice::Auto).unwrap();
-    eprintln!("{turn}\nheld-out {:.4}", rows[0].held_out);
-    assert!(rows[0].held_out < 0.4, "{}", rows[0].held_out);
+    for (seed, bound) in [(5, 0.35), (6, 0.6)] {
+        let f = Faults { seed, ..Faults::all() };
+        let painted = FaultyView::new(&mut sampler, &painted_presets(1)[0], 256, f.light_off_deg).unwrap();
+        let model = faults::suite().into_iter().find(|m| m.name() == "ggx-0.2").unwrap();
+        let mut views = vec![faults::paint(&painted, &model, &f).unwrap()];
+        let notes = pipeline::read(&mut views, &[&painted.view.gbuffer], &Reading::default()).unwrap();
+        let turn = notes.iter().find(|n| n.contains("tones look lit")).unwrap_or_else(|| panic!("seed {seed}: {notes:#?}"));
+        let degrees: f64 = turn.split("look lit ").nth(1).and_then(|r| r.split('°').next()).and_then(|d| d.parse().ok()).unwrap();
+        assert!((6.0..=10.0).contains(&degrees), "seed {seed}: {turn}");
+        let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
+        let rows = faults::measure(&[painted], &held, &[model], &Settings::default(), &f, &plain, Reading::default(), brdfpaint::factor::base::BaseChoice::Auto).unwrap();
+        eprintln!("seed {seed}: {turn}\nheld-out {:.4}", rows[0].held_out);
+        assert!(rows[0].held_out < bound, "seed {seed}: {}", rows[0].held_out);
+    }
 }
 
 #[test]

@@ -71,21 +71,23 @@ pub struct Turn {
     pub after: f64,
     /// Whether the turn was judged on the tones rather than on the factored fit.
     pub by_tones: bool,
-    /// The search's best rotation, kept or not (identity when it found no turn worth one).
+    /// The search's best rotation, kept or not (identity when it found no turn worth one),
+    /// and the factored fit's relative RMS with it over that without (1 for none).
     pub proposed: DQuat,
+    pub proposed_gain: f64,
 }
 
 impl Turn {
     /// The scene's light, kept.
     pub(crate) fn kept(score: f64) -> Turn {
-        Turn { rotation: DQuat::IDENTITY, degrees: 0.0, before: score, after: score, by_tones: false, proposed: DQuat::IDENTITY }
+        Turn { rotation: DQuat::IDENTITY, degrees: 0.0, before: score, after: score, by_tones: false, proposed: DQuat::IDENTITY, proposed_gain: 1.0 }
     }
 
     /// A turn by `rotation` that took the painting's misfit from `before` to `after`
     /// (`by_tones`: the tones' misfit).
     pub(crate) fn by(rotation: DQuat, before: f64, after: f64, by_tones: bool) -> Turn {
         let degrees = rotation.to_axis_angle().1.to_degrees();
-        Turn { rotation, degrees, before, after, by_tones, proposed: rotation }
+        Turn { rotation, degrees, before, after, by_tones, proposed: rotation, proposed_gain: after / before.max(f64::MIN_POSITIVE) }
     }
 
     /// Whether the light was moved.
@@ -293,10 +295,11 @@ pub fn register(views: &mut [PaintedView], gbuffers: &[&GBuffer], settings: &Set
             views[i].geometry = turned(g, &original, rotation);
             let after = explained(&Samples::gather(views)?, settings)?;
             if after <= (1.0 - MIN_GAIN) * before && (after <= MAX_RESIDUAL || after <= CLEAR_GAIN * before) {
-                turn = Turn { rotation, degrees, before, after, by_tones: false, proposed: rotation };
+                turn = Turn::by(rotation, before, after, false);
             } else {
                 views[i].geometry = original;
                 turn.proposed = rotation;
+                turn.proposed_gain = after / before.max(f64::MIN_POSITIVE);
             }
         }
         turns.push(turn);
