@@ -72,7 +72,7 @@ pub struct Turn {
     /// Whether the turn was judged on the tones rather than on the factored fit.
     pub by_tones: bool,
     /// The search's best rotation, kept or not (identity when it found no turn worth one),
-    /// and the factored fit's relative RMS with it over that without (1 for none).
+    /// and `after` over `before` for it (the factored fit's; 1 for none).
     pub proposed: DQuat,
     pub proposed_gain: f64,
 }
