@@ -251,7 +251,9 @@ pub fn read(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading)
 
 /// The light of a toned view the factored fit did not turn (its geometry the scene's,
 /// `scene`), judged on its tones: the search's proposals (`proposals`, one per pass, about
-/// the scene's light) are read under each ([`tones::held`]), and the best is taken when its
+/// the scene's light) and the lights its brightest tone points to
+/// ([`register::brightest_turns`]; seed 4 below, where the search went 20° the wrong way in
+/// both passes) are read under each ([`tones::held`]), and the best is taken when its
 /// tones' misfit is under [`register::CLEAR_GAIN`] of the scene's light's (the margin a fit
 /// that stays poor needs), or [`register::MIN_GAIN`] under it where the factored fit gained
 /// as much from the same turn (the two judges agree). The factored fit's misfit is the
@@ -260,7 +262,8 @@ pub fn read(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading)
 /// fault, brush seed 5 (the strays still in the first pass's fit, which gained 8% from the
 /// 8° turn; after them the search found 2.5°): the edges are missed by 0.217 under the
 /// scene's light, 0.019 turned, and the held-out error went 0.852 → 0.232; seed 6 (fit and
-/// tones 31% and 40% better turned) 0.996 → 0.460 (BENCHMARKS.md). Returns the turn taken
+/// tones 31% and 40% better turned) 0.996 → 0.460; seed 4 (0.186 → 0.019 toward the
+/// brightest tone's mirror light) 0.835 → 0.321 (BENCHMARKS.md). Returns the turn taken
 /// (`None`: the light stays) and the reading under the light kept, for [`tones::refine`];
 /// `None` when the tones give no reading.
 fn turn_on_tones(
@@ -271,8 +274,12 @@ fn turn_on_tones(
     proposals: &[(glam::DQuat, f64)],
 ) -> Option<(Option<register::Turn>, tones::Luminance)> {
     let at_scene = tones::held(view, toned)?;
+    // The search's proposals, and where the brightest tone says the light is (a fit's gain
+    // of 1: judged on the tones alone).
+    let brightest = register::brightest_turns(g, &toned.brightest());
+    let candidates = proposals.iter().copied().chain(brightest.into_iter().map(|q| (q, 1.0)));
     let mut best: Option<(glam::DQuat, tones::Luminance, f64, f64)> = None;
-    for &(q, fit_gain) in proposals.iter().filter(|(q, _)| q.to_axis_angle().1 > 0.0) {
+    for (q, fit_gain) in candidates.filter(|(q, _)| q.to_axis_angle().1 > 0.0) {
         view.geometry = register::turned(g, scene, q);
         if let Some(reading) = tones::held(view, toned) {
             let outside = reading.outside();

@@ -272,13 +272,16 @@ fn a_highlight_in_flat_tones_is_not_a_stray() {
 /// stray strokes, gains only 8% from it (a turn needs 10%, and half when the fit stays
 /// poor), and after the strays are repainted the search finds 2.5°; the tones' edges are
 /// missed by 0.217 under the scene's light and 0.019 under the 8° turn. At seed 6 the fit
-/// gains 31% from the 8° turn after the strays, the tones 40%: the two judges agree. Taken,
-/// the highlight sits where it was painted: held-out error 0.852 → 0.232 and 0.996 → 0.460.
+/// gains 31% from the 8° turn after the strays, the tones 40%: the two judges agree. At
+/// seed 4 the search goes 20° the wrong way in both passes; the turn toward the light that
+/// puts the brightest tone at the mirror point is judged on the tones instead. Taken, the
+/// highlight sits where it was painted: held-out error 0.835 → 0.321 (seed 4), 0.852 →
+/// 0.232 (5) and 0.996 → 0.460 (6).
 #[test]
 fn a_toned_paintings_light_is_taken_from_its_tones_when_the_fit_cannot_tell() {
     let mut sampler = SceneSampler::new().unwrap();
     let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, 256).unwrap()).collect();
-    for (seed, bound) in [(5, 0.35), (6, 0.6)] {
+    for (seed, bound) in [(4, 0.45), (5, 0.35), (6, 0.6)] {
         let f = Faults { seed, ..Faults::all() };
         let painted = FaultyView::new(&mut sampler, &painted_presets(1)[0], 256, f.light_off_deg).unwrap();
         let model = faults::suite().into_iter().find(|m| m.name() == "ggx-0.2").unwrap();

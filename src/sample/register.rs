@@ -121,6 +121,33 @@ pub fn turned(g: &GBuffer, geometry: &Geometry, rotation: DQuat) -> Geometry {
     out
 }
 
+/// Where a painting's brightest paint says the light is: turns of the scene's light toward
+/// the lights that put the brightest pixels (`brightest`, G-buffer pixels) at their mean
+/// normal $n$ and view $v$: a highlight's, the mirror direction $2(n \cdot v)\,n - v$; a
+/// diffuse glow's, $n$ itself. Only turns of [`MIN_TURN_DEG`] to [`RADIUS_DEG`] are returned.
+/// A toned painting's top tone is a small region whose centre the proxy search can miss
+/// where brush and stray strokes mislead it (a glossy sphere with every fault was searched
+/// 20° the wrong way); [`crate::pipeline`] judges these turns on the tones.
+pub fn brightest_turns(g: &GBuffer, brightest: &[usize]) -> Vec<DQuat> {
+    let world = |k: usize, d: glam::Vec3| {
+        let [t, b, n] = frame(g, k);
+        t * d.x as f64 + b * d.y as f64 + n * d.z as f64
+    };
+    let (mut n, mut v, mut l) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+    for &k in brightest.iter().filter(|&&k| g.pixels[k].hit) {
+        n += g.pixels[k].normal.as_dvec3();
+        v += world(k, g.pixels[k].v);
+        l += world(k, g.pixels[k].l);
+    }
+    let (Some(n), Some(v), Some(l)) = (n.try_normalize(), v.try_normalize(), l.try_normalize()) else { return Vec::new() };
+    [2.0 * n.dot(v) * n - v, n]
+        .into_iter()
+        .filter_map(|target| target.try_normalize())
+        .map(|target| DQuat::from_rotation_arc(l, target))
+        .filter(|q| (MIN_TURN_DEG..=RADIUS_DEG).contains(&q.to_axis_angle().1.to_degrees()))
+        .collect()
+}
+
 /// How well the factored product of `settings` explains `samples`: relative RMS of its
 /// least-squares fit with the offset mapping, over all but the [`TRIM`] worst-fitted
 /// samples (stray strokes hide what a light explains).

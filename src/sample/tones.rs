@@ -51,6 +51,14 @@ pub struct Toned {
 }
 
 impl Toned {
+    /// The sample pixels of the brightest tone: whose intervals' lower ends, weighted as
+    /// luminance, are the largest.
+    pub fn brightest(&self) -> Vec<usize> {
+        let floor = |b: &[[f64; 2]; 3]| 0.2126 * b[0][0] + 0.7152 * b[1][0] + 0.0722 * b[2][0];
+        let top = self.bounds.iter().map(|(_, b)| floor(b)).fold(f64::NEG_INFINITY, f64::max);
+        self.bounds.iter().filter(|(_, b)| floor(b) >= top).map(|&(k, _)| k).collect()
+    }
+
     /// The note a user reads.
     pub fn describe(&self, painting: &str) -> String {
         format!(
