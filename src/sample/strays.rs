@@ -171,9 +171,8 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings) -> Result<Option<
 /// tables cannot hold a plateau a few pixels wide); repainted, it is gone, and the material
 /// with it: a GGX 0.2 sphere painted with every fault lost its highlight at three of eight
 /// brush seeds (BENCHMARKS.md; held-out 0.96–1.03 then; with it kept, and the light judged
-/// on the tones, 0.23 at seed 5, 0.84 and 1.00 at seeds 4 and 6, whose painted light is
-/// still not found). A dark stroke over the highlight is still a stray, and so is a bright
-/// one far from it.
+/// on the tones, 0.32, 0.23 and 0.46). A dark stroke over the highlight is still a stray,
+/// and so is a bright one far from it.
 fn keep_highlights(stray: &mut [bool], at: &[f64], brighter: &[bool], theta_h: &[f64], w: usize) {
     let mirror = theta_h.iter().copied().filter(|t| t.is_finite()).fold(f64::INFINITY, f64::min);
     for blob in components(stray, w) {
