@@ -21,14 +21,14 @@
 //! runs twice, the second time without the first's strays. A painting whose
 //! misses gather in blobs smaller than 0.2% of its samples (at least 8 pixels) has none
 //! there (a render's misfit along a highlight's or a rim crescent's edge), and a bright blob
-//! at the view's mirror point is its highlight ([`keep_highlights`]); one whose misses
+//! at the view's mirror point is its highlight ([`keep_strokes`]); one whose misses
 //! are more than [`MAX_FRACTION`] of its samples does not have strays: it disagrees
 //! with itself (several materials, another light), and nothing is repainted (the fit's
 //! diagnostics say what to do).
 
 use super::{proxy, PaintedView, Samples};
 use crate::error::Result;
-use crate::images::{components, drop_small_components, neighbours8};
+use crate::images::{components, neighbours8};
 use crate::factor::{Mapping, Settings};
 
 /// Robust standard deviations a stray's miss exceeds.
@@ -132,10 +132,8 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings) -> Result<Option<
             }
             offset += count;
             let mut stray: Vec<bool> = at.iter().map(|&m| m > threshold).collect();
-            // A stroke is a blob; a render's misfit, a few pixels along a highlight's or a
-            // crescent's edge.
-            drop_small_components(&mut stray, w, (MIN_STROKE * count as f64).max(MIN_STROKE_PIXELS as f64) as usize);
-            keep_highlights(&mut stray, &at, &brighter, &theta_h, w);
+            let least = (MIN_STROKE * count as f64).max(MIN_STROKE_PIXELS as f64) as usize;
+            keep_strokes(&mut stray, least, &at, &brighter, &theta_h, w);
             grow(&mut stray, &at, w, RIM * threshold);
             strays[v] = (0..w * h).filter(|&k| stray[k]).collect();
         }
@@ -164,21 +162,23 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings) -> Result<Option<
     Ok(Some(Strays { per_view: found }))
 }
 
-/// Clears the blobs of `stray` (a mask `w` to a row) that are the view's highlight: brighter
-/// than the fit where it misses them most (`at`, `brighter`), and reaching within
-/// [`HIGHLIGHT_DEG`] of the view's smallest $\theta_h$ (`theta_h`, NaN off the samples).
+/// Clears the blobs of `stray` (a mask `w` to a row) that are not strokes. A stroke is a blob
+/// of at least `least` pixels; a render's misfit is a few pixels along a highlight's or a
+/// crescent's edge. And a blob that is the view's highlight is none: brighter than the fit
+/// where it misses it most (`at`, `brighter`), and reaching within [`HIGHLIGHT_DEG`] of the
+/// view's smallest $\theta_h$ (`theta_h`, NaN off the samples).
 /// The fit misses a sharp highlight in flat tones by far more than the rest (the smooth
 /// tables cannot hold a plateau a few pixels wide); repainted, it is gone, and the material
 /// with it: a GGX 0.2 sphere painted with every fault lost its highlight at three of eight
 /// brush seeds (BENCHMARKS.md; held-out 0.96–1.03 then; with it kept, and the light judged
 /// on the tones, 0.32, 0.23 and 0.46). A dark stroke over the highlight is still a stray,
 /// and so is a bright one far from it.
-fn keep_highlights(stray: &mut [bool], at: &[f64], brighter: &[bool], theta_h: &[f64], w: usize) {
+fn keep_strokes(stray: &mut [bool], least: usize, at: &[f64], brighter: &[bool], theta_h: &[f64], w: usize) {
     let mirror = theta_h.iter().copied().filter(|t| t.is_finite()).fold(f64::INFINITY, f64::min);
     for blob in components(stray, w) {
         let Some(&worst) = blob.iter().max_by(|&&a, &&b| at[a].total_cmp(&at[b])) else { continue };
         let nearest = blob.iter().map(|&k| theta_h[k]).fold(f64::INFINITY, f64::min);
-        if brighter[worst] && nearest <= mirror + HIGHLIGHT_DEG {
+        if blob.len() < least || (brighter[worst] && nearest <= mirror + HIGHLIGHT_DEG) {
             for k in blob {
                 stray[k] = false;
             }

@@ -33,6 +33,9 @@ use super::{proxy, PaintedView};
 use crate::factor::base::Lobe;
 use crate::images::{linear_to_srgb, srgb_to_linear};
 
+/// Rec. 709 luminance weights of linear RGB.
+const Y: [f64; 3] = [0.2126, 0.7152, 0.0722];
+
 /// Most distinct codes per channel of a toned painting.
 pub const MAX_LEVELS: usize = 12;
 /// Fewest distinct codes (in its busiest channel) of a toned painting; fewer is a toon style.
@@ -54,7 +57,7 @@ impl Toned {
     /// The sample pixels of the brightest tone: whose intervals' lower ends, weighted as
     /// luminance, are the largest.
     pub fn brightest(&self) -> Vec<usize> {
-        let floor = |b: &[[f64; 2]; 3]| 0.2126 * b[0][0] + 0.7152 * b[1][0] + 0.0722 * b[2][0];
+        let floor = |b: &[[f64; 2]; 3]| (0..3).map(|c| Y[c] * b[c][0]).sum::<f64>();
         let top = self.bounds.iter().map(|(_, b)| floor(b)).fold(f64::NEG_INFINITY, f64::max);
         self.bounds.iter().filter(|(_, b)| floor(b) >= top).map(|&(k, _)| k).collect()
     }
@@ -163,7 +166,6 @@ pub struct Luminance {
 }
 
 fn luminance(view: &PaintedView, toned: &Toned) -> Option<Luminance> {
-    const Y: [f64; 3] = [0.2126, 0.7152, 0.0722];
     let geometry: Vec<Site> = toned
         .bounds
         .iter()
