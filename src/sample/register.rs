@@ -106,6 +106,12 @@ fn frame(g: &GBuffer, k: usize) -> [DVec3; 3] {
     [t, n.cross(t) * sign, n]
 }
 
+/// A local-frame direction `d` (a G-buffer pixel's light or view) in world space, through
+/// that pixel's [`frame`].
+fn to_world([t, b, n]: [DVec3; 3], d: DVec3) -> DVec3 {
+    t * d.x + b * d.y + n * d.z
+}
+
 /// `geometry` with the light turned by `rotation`: each pixel's light direction, taken to
 /// world space through its G-buffer frame, rotated and taken back. Views, uvs and the light
 /// delivered are kept.
@@ -114,8 +120,7 @@ pub fn turned(g: &GBuffer, geometry: &Geometry, rotation: DQuat) -> Geometry {
     for (k, px) in out.pixels.iter_mut().enumerate() {
         let Some(px) = px else { continue };
         let [t, b, n] = frame(g, k);
-        let l0 = g.pixels[k].l.as_dvec3();
-        let world = rotation * (t * l0.x + b * l0.y + n * l0.z);
+        let world = rotation * to_world([t, b, n], g.pixels[k].l.as_dvec3());
         px.query.l = DVec3::new(world.dot(t), world.dot(b), world.dot(n)).normalize_or(DVec3::Z);
     }
     out
@@ -129,10 +134,7 @@ pub fn turned(g: &GBuffer, geometry: &Geometry, rotation: DQuat) -> Geometry {
 /// where brush and stray strokes mislead it (a glossy sphere with every fault was searched
 /// 20° the wrong way); [`crate::pipeline`] judges these turns on the tones.
 pub fn brightest_turns(g: &GBuffer, brightest: &[usize]) -> Vec<DQuat> {
-    let world = |k: usize, d: glam::Vec3| {
-        let [t, b, n] = frame(g, k);
-        t * d.x as f64 + b * d.y as f64 + n * d.z as f64
-    };
+    let world = |k: usize, d: glam::Vec3| to_world(frame(g, k), d.as_dvec3());
     let (mut n, mut v, mut l) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
     for &k in brightest.iter().filter(|&&k| g.pixels[k].hit) {
         n += g.pixels[k].normal.as_dvec3();
@@ -206,8 +208,7 @@ impl Search {
             let (view, pixel) = samples.origin[k];
             if view == free_view {
                 let [t, b, n] = frame(g, pixel);
-                let l = g.pixels[pixel].l.as_dvec3();
-                let world = t * l.x + b * l.y + n * l.z;
+                let world = to_world([t, b, n], g.pixels[pixel].l.as_dvec3());
                 sum += world;
                 search.free.push(([t, b, n], world, q.v, y));
             } else {
