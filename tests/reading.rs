@@ -314,6 +314,21 @@ fn paintings_with_every_fault_generalize() {
     assert!(worst < 1.0, "{worst}");
 }
 
+/// The tones' reading is a least-squares fit to their intervals, and a few sites it cannot
+/// hold (a stroke the stray search left, a highlight's core the brush brightened past every
+/// lobe) bent it for all the rest; it now reads the tones again without the sites it misses
+/// by more than their interval's width. Every fault at the brush seeds where that mattered
+/// most at this size (128², the nine models' held-out medians): seeds 2, 5 and 6 0.118,
+/// 0.083 and 0.089 before, 0.071, 0.057 and 0.084 now (the study's eight seeds at 256²:
+/// 0.0713 → 0.0671, mean of medians).
+#[test]
+fn tones_the_shading_does_not_explain_do_not_bend_their_reading() {
+    let medians: Vec<f64> = [2, 5, 6].iter().map(|&seed| held_out_median(&Faults { seed, ..Faults::all() }, Reading::default())).collect();
+    eprintln!("every fault, brush seeds 2, 5 and 6: held-out medians {medians:.4?}");
+    let mean = medians.iter().sum::<f64>() / 3.0;
+    assert!(mean < 0.085, "{mean}");
+}
+
 #[test]
 fn reading_notes_name_the_painting() {
     let mut sampler = SceneSampler::new().unwrap();
