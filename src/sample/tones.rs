@@ -22,7 +22,8 @@
 //! ([`super::proxy`]) or the lobe family that holds them ([`family`]): the smooth shading that
 //! keeps every pixel inside its interval (6 levels: held-out error 0.165 interpolated, 0.068
 //! through the proxy, 0.026 through lobe families; BENCHMARKS.md). The few pixels whose tone
-//! the reading misses by more than a whole interval are read without ([`OUTLIER_WIDTHS`]).
+//! that reading misses by more than a whole interval are then left out of it, and the tones
+//! read again ([`OUTLIER_WIDTHS`]).
 //!
 //! A painting counts as toned when, over its samples, every channel takes at most
 //! [`MAX_LEVELS`] distinct 8-bit codes and some channel at least [`MIN_LEVELS`]: two tones are a
@@ -169,17 +170,19 @@ pub struct Luminance {
     outliers: Vec<bool>,
 }
 
-/// A site is left out of a tones' reading when the first reading misses its luminance
-/// interval by more than this many times the interval's width: a tone the shading around it
-/// does not explain. In the faults study these are what the stray search left of a stroke
-/// and the core of a highlight the brush brightened past every lobe. A reading is a
+/// A site is left out of a tones' reading ([`refine`]'s) when the reading misses its
+/// luminance interval by more than this many times the interval's width: a tone the shading
+/// around it does not explain. In the faults study these are what the stray search left of
+/// a stroke and the core of a highlight the brush brightened past every lobe. A reading is a
 /// least-squares fit to the intervals, and a few such sites bend it for all the rest: a Ward
 /// sphere in 6 flat tones with eight stray strokes was read through the Ashikhmin-Shirley
 /// lobe, its tones left by 0.118; without its 74 outliers, through Phong's, left by 0.032.
 /// With every fault, over eight brush seeds, the median held-out error went 0.0713 → 0.0671
 /// (mean of medians; 0.0668 at 0.75 widths and 0.0672 at 1.5, 0.069 at 0.5 and at 2;
 /// leaving out only sets of at least 0.05% of the sites, 0.0688: BENCHMARKS.md). The
-/// outliers keep their interpolation ([`refine`]).
+/// outliers keep their interpolation. The lights a toned view is judged under
+/// ([`held`]) are judged on the first reading: judged on the second too, the eight seeds'
+/// medians were the same, at a second reading per light judged.
 const OUTLIER_WIDTHS: f64 = 1.0;
 
 /// The toned samples of `view` still usable, as sites.
@@ -195,15 +198,14 @@ fn sites(view: &PaintedView, toned: &Toned) -> Vec<Site> {
         .collect()
 }
 
-/// The luminance's tones read ([`read`]), then read again without the sites the first
-/// reading misses by more than [`OUTLIER_WIDTHS`] of their interval.
-fn luminance(view: &PaintedView, toned: &Toned) -> Option<Luminance> {
-    let mut first = read(view, sites(view, toned))?;
-    let outliers = std::mem::take(&mut first.outliers);
-    if !outliers.contains(&true) {
-        return Some(first);
+/// `reading` read again without its outliers ([`OUTLIER_WIDTHS`]); as it is when it has
+/// none.
+fn without_outliers(view: &PaintedView, reading: Luminance) -> Luminance {
+    if !reading.outliers.contains(&true) {
+        return reading;
     }
-    read(view, first.geometry.into_iter().zip(outliers).filter(|(_, o)| !o).map(|(s, _)| s).collect())
+    let kept: Vec<Site> = reading.geometry.iter().zip(&reading.outliers).filter(|(_, &o)| !o).map(|(s, _)| *s).collect();
+    read(view, kept).unwrap_or(reading)
 }
 
 /// Whether `y` lies beyond interval `[lo, hi]` by more than [`OUTLIER_WIDTHS`] of its width.
@@ -246,7 +248,7 @@ fn read(view: &PaintedView, geometry: Vec<Site>) -> Option<Luminance> {
 /// so a light registered on the interpolation is checked on this ([`crate::pipeline::read`]),
 /// and the reading kept is passed on to [`refine`] for the light kept.
 pub fn held(view: &PaintedView, toned: &Toned) -> Option<Luminance> {
-    luminance(view, toned)
+    read(view, sites(view, toned))
 }
 
 impl Luminance {
@@ -270,13 +272,11 @@ impl Luminance {
 /// proxy's Blinn-Phong lobes hold the tones clearly better ([`LOBE_MARGIN`]). Each channel
 /// then fits only its own ambient, diffuse, cool-side and highlight weights on that shape.
 /// `held`, when given, is [`held`]'s reading of this view under its current light (not
-/// searched again). The sites left out of the reading ([`OUTLIER_WIDTHS`]) keep their
-/// interpolation, as every pixel the reading does not explain does.
+/// searched again). It is read again without its outliers ([`OUTLIER_WIDTHS`]), which
+/// keep their interpolation, as every pixel the reading does not explain does.
 pub fn refine(view: &mut PaintedView, toned: &Toned, held: Option<Luminance>) -> Option<(Lobe, f64)> {
-    let Luminance { geometry, shape, family: best, proxy_outside, .. } = match held {
-        Some(l) => l,
-        None => luminance(view, toned)?,
-    };
+    let reading = held.or_else(|| self::held(view, toned))?;
+    let Luminance { geometry, shape, family: best, proxy_outside, .. } = without_outliers(view, reading);
     let value = |k: usize, c: usize| view.painting.pixels[k][c] as f64;
     // The family's lobe unless the proxy holds the tones clearly better; under a headlight,
     // only where the family holds them clearly better ([`LOBE_MARGIN`]).
