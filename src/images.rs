@@ -247,6 +247,14 @@ pub fn check_size(width: usize, height: usize) -> Result<()> {
     Ok(())
 }
 
+/// Rec. 709 luminance weights of linear RGB.
+pub const REC709: [f64; 3] = [0.2126, 0.7152, 0.0722];
+
+/// Rec. 709 luminance of linear RGB.
+pub fn luminance(c: [f64; 3]) -> f64 {
+    REC709[0] * c[0] + REC709[1] * c[1] + REC709[2] * c[2]
+}
+
 /// The sRGB transfer function, linear to encoded, both in [0, 1].
 pub fn linear_to_srgb(x: f32) -> f32 {
     let x = x.clamp(0.0, 1.0);

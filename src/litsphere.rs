@@ -299,7 +299,7 @@ fn components(mask: &[bool], w: usize, h: usize) -> (Vec<u32>, Vec<(u32, usize)>
 
 /// Rec. 709 luminance of linear RGB.
 fn luminance(c: &[f32; 3]) -> f64 {
-    0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64
+    crate::images::luminance(c.map(f64::from))
 }
 
 /// Directions towards the front of the sphere ($l_z \ge 0.15$), about evenly spread

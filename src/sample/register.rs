@@ -203,7 +203,7 @@ impl Search {
         let mut max = 0.0f64;
         for k in (0..samples.len()).step_by(stride) {
             let (q, c) = (&samples.pattern.queries[k], samples.values[k]);
-            let y = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+            let y = crate::images::luminance(c);
             max = max.max(y);
             let (view, pixel) = samples.origin[k];
             if view == free_view {

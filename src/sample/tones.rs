@@ -36,7 +36,7 @@ use crate::factor::base::Lobe;
 use crate::images::{linear_to_srgb, srgb_to_linear};
 
 /// Rec. 709 luminance weights of linear RGB.
-const Y: [f64; 3] = [0.2126, 0.7152, 0.0722];
+const Y: [f64; 3] = crate::images::REC709;
 
 /// Most distinct codes per channel of a toned painting.
 pub const MAX_LEVELS: usize = 12;

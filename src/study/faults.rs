@@ -406,7 +406,7 @@ pub fn light_sweep(material: &Material, steps: usize, res: usize) -> Vec<f64> {
                 .iter()
                 .map(|p| {
                     let s = material.shading(&p.query);
-                    0.2126 * s[0] + 0.7152 * s[1] + 0.0722 * s[2]
+                    crate::images::luminance(s)
                 })
                 .sum();
             sum / px.len().max(1) as f64
