@@ -33,10 +33,7 @@ use rayon::prelude::*;
 
 use super::{proxy, PaintedView};
 use crate::factor::base::Lobe;
-use crate::images::{linear_to_srgb, srgb_to_linear};
-
-/// Rec. 709 luminance weights of linear RGB.
-const Y: [f64; 3] = crate::images::REC709;
+use crate::images::{self, linear_to_srgb, srgb_to_linear};
 
 /// Most distinct codes per channel of a toned painting.
 pub const MAX_LEVELS: usize = 12;
@@ -59,7 +56,7 @@ impl Toned {
     /// The sample pixels of the brightest tone: whose intervals' lower ends, weighted as
     /// luminance, are the largest.
     pub fn brightest(&self) -> Vec<usize> {
-        let floor = |b: &[[f64; 2]; 3]| (0..3).map(|c| Y[c] * b[c][0]).sum::<f64>();
+        let floor = |b: &[[f64; 2]; 3]| luminance_interval(b)[0];
         let top = self.bounds.iter().map(|(_, b)| floor(b)).fold(f64::NEG_INFINITY, f64::max);
         self.bounds.iter().filter(|(_, b)| floor(b) >= top).map(|&(k, _)| k).collect()
     }
@@ -216,7 +213,7 @@ fn beyond(y: f64, [lo, hi]: &[f64; 2]) -> bool {
 
 /// A site's luminance interval: its channels' intervals weighted as luminance.
 fn luminance_interval(bounds: &[[f64; 2]; 3]) -> [f64; 2] {
-    [0, 1].map(|e| (0..3).map(|c| Y[c] * bounds[c][e]).sum())
+    [0, 1].map(|e| images::luminance(bounds.map(|b| b[e])))
 }
 
 /// The luminance's tones of `geometry`'s sites read by the proxy and the lobe families.
@@ -225,18 +222,18 @@ fn read(view: &PaintedView, geometry: Vec<Site>) -> Option<Luminance> {
     let luminance: Vec<([f64; proxy::BASIS], [f64; 2])> = geometry
         .iter()
         .map(|(_, b, light, bounds)| {
-            let e: f64 = (0..3).map(|c| Y[c] * light[c]).sum();
+            let e = images::luminance(*light);
             (b.map(|x| x * e), luminance_interval(bounds))
         })
         .collect();
-    let start: Vec<f64> = geometry.iter().map(|&(k, ..)| (0..3).map(|c| Y[c] * view.painting.pixels[k][c] as f64).sum()).collect();
+    let start: Vec<f64> = geometry.iter().map(|&(k, ..)| images::luminance(view.painting.pixels[k].map(f64::from))).collect();
     let (shape, _) = proxy::fit_within(&luminance, &start)?;
     let blinn: Vec<([f64; 4], [f64; 2])> =
         luminance.iter().map(|(b, i)| ([b[0], b[1], b[2], (3..proxy::BASIS).map(|j| shape[j] * b[j]).sum()], *i)).collect();
     let proxy_outside = outside(&blinn, &start, &[shape[0], shape[1], shape[2], 1.0]);
     let family = family(view, &geometry, &luminance, &start);
     let outliers = match &family {
-        Some(f) => luminance.iter().zip(&f.shapes).map(|((b, interval), &(d, s))| beyond(proxy::eval(&[b[0], b[0] * d, b[2], b[0] * s], &f.x), interval)).collect(),
+        Some(f) => luminance.iter().zip(&f.shapes).map(|((b, interval), &shape)| beyond(proxy::eval(&family_basis(b, shape), &f.x), interval)).collect(),
         None => vec![false; geometry.len()],
     };
     Some(Luminance { geometry, shape, family, proxy_outside, outliers })
@@ -355,6 +352,13 @@ fn outside<const N: usize>(points: &[([f64; N], [f64; 2])], start: &[f64], x: &[
     (r / t.max(f64::MIN_POSITIVE)).sqrt()
 }
 
+/// A site's basis for a lobe family's reading: ambient, the family's diffuse shape `d`, the
+/// cool side and its lobe `s` at unit weight, from the site's proxy basis `b` (scaled by the
+/// light delivered).
+fn family_basis(b: &[f64; proxy::BASIS], (d, s): (f64, f64)) -> [f64; 4] {
+    [b[0], b[0] * d, b[2], b[0] * s]
+}
+
 /// A lobe family's reading of the luminance's tones: the family, its width, and per site
 /// (per unit of light) its diffuse shape and its lobe at unit weight.
 struct Family {
@@ -399,7 +403,7 @@ fn family(
             .zip(shapes)
             .map(|(&i, &(d, s))| {
                 let (b, interval) = &luminance[i];
-                ([b[0], b[0] * d, b[2], b[0] * s], *interval)
+                (family_basis(b, (d, s)), *interval)
             })
             .collect()
     };
