@@ -106,7 +106,7 @@ fn main() -> brdfpaint::Result<()> {
         on_base_s * 1e3
     );
     let sharp = sharp_model();
-    for (label, painted) in [("1 view", paintings(1)), ("3 views", paintings(3))] {
+    for (label, painted) in [("1 view", paintings(1)), ("3 views", paintings(3)), ("3 wide", wide_paintings())] {
         print!("{} peak from {label}, fitted/true per held-out view:", sharp.name());
         for (view, fitted, truth) in peaks_based(&sharp, settings, &painted, base)? {
             print!(" {view} {:.3}", fitted / truth);

@@ -24,7 +24,7 @@ use crate::commit::StagedDir;
 use crate::error::{Error, Result};
 use crate::factor::cache::{Cache, Outcome};
 use crate::factor::base::BaseChoice;
-use crate::factor::{defaults, difference_range, DifferenceChoice, Errors, Fit, Mapping, Prepared, Settings};
+use crate::factor::{defaults, difference_range, DifferenceChoice, DIFFERENCE_REACH_DEG, Errors, Fit, Mapping, Prepared, Settings};
 use crate::images::Rgb;
 use crate::material::map::{self, MapOptions, MapReport};
 use crate::material::{Kind, Material, Provenance};
@@ -481,6 +481,9 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
             "the paintings are lit from the eye: they show each point under one angle between light, view and normal, so the shading's falloff was given to the light (as cos θ_l) where they leave it open; a second view painted under a side light (--scene S2 --image P2) shows how the material answers a moving light".to_string(),
         );
     }
+    if let Some(note) = fresnel_unseen(&fitted) {
+        fitted.material.provenance.notes.push(note);
+    }
     if added && opts.difference == DifferenceChoice::Auto {
         let [lo, hi] = difference_range(&fitted.samples.pattern);
         fitted.material.provenance.notes.push(format!(
@@ -488,6 +491,24 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
         ));
     }
     Ok(fitted)
+}
+
+/// A note when the material's highlight is a lobe whose Fresnel the paintings cannot show:
+/// Schlick's $(1 - \cos\theta_d)^5$ is 4e-5 at 30° and 0.002 at 45°
+/// ([`DIFFERENCE_REACH_DEG`]), so paintings lit near the camera leave $k_f$ at 0 and the
+/// highlight under rim light too dim. Measured on a GGX $\alpha = 0.05$ sphere (BENCHMARKS.md,
+/// "The wide suite"): the rim view's peak 0.769 of the truth from the three standard
+/// paintings, 0.998 from three that include side and back light.
+fn fresnel_unseen(fitted: &Fitted) -> Option<String> {
+    let base = fitted.material.terms.first().and_then(|t| t.base)?;
+    let [_, reach] = difference_range(&fitted.samples.pattern);
+    let lobe = base.specular.iter().sum::<f64>() > 0.0 && base.lobe.fresnel_from_data();
+    (lobe && reach < DIFFERENCE_REACH_DEG).then(|| {
+        format!(
+            "the paintings show light and half vector at most {reach:.0}° apart, too close to see Fresnel: the {} highlight was given none, so under light from the side or behind it stays as bright as head-on where a real glossy material grows brighter; a view painted under side or back light shows by how much",
+            base.lobe.name()
+        )
+    })
 }
 
 /// What a user can act on, one line each (they go into the material's provenance): per

@@ -141,7 +141,8 @@ fn several_views_concatenate() {
 /// material stores it: from a front-lit and a side-lit painting of GGX, whose Fresnel term
 /// depends on θ_d, the fit with it is at least as close to the paintings as without. Unasked
 /// (`auto`), the two paintings' θ_d (about 10° and 50°) get it, with a note saying why, and
-/// the front-lit painting alone (one θ_d) does not.
+/// the front-lit painting alone (one θ_d) does not; its note says instead that it cannot
+/// show the lobe's Fresnel.
 #[test]
 fn theta_d_adds_a_difference_factor() {
     let dir = tempfile::tempdir().unwrap();
@@ -172,6 +173,12 @@ fn theta_d_adds_a_difference_factor() {
     let front = Material::load(&out).unwrap();
     assert_eq!(inputs(&front), ["light", "half", "view"]);
     assert!(!front.provenance.notes.iter().any(|n| n.contains("θ_d")), "{:?}", front.provenance.notes);
+    // The front-lit painting's GGX lobe has no Fresnel it could see, and the note says so;
+    // the side-lit painting shows it.
+    let fresnel = |m: &Material| m.provenance.notes.iter().any(|n| n.contains("too close to see Fresnel"));
+    assert_eq!(front.terms[0].base.map(|b| b.lobe), Some(brdfpaint::factor::base::Lobe::Ggx), "{:?}", front.terms[0].base);
+    assert!(fresnel(&front), "{:?}", front.provenance.notes);
+    assert!(!fresnel(&auto), "{:?}", auto.provenance.notes);
     assert_eq!(with.terms[0].factors[1].spec.warp, brdfpaint::factor::defaults::WARP_HALF);
     let (a, b) = (with.provenance.errors.unwrap().rms_relative, without.provenance.errors.unwrap().rms_relative);
     assert!(a <= b * 1.01, "with theta_d {a}, without {b}");

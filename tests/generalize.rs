@@ -85,6 +85,30 @@ fn a_sharp_highlight_peaks_within_15_percent_on_held_out_views() {
     assert!(unwarped.iter().any(|(_, r)| (r - 1.0).abs() > 0.15), "{unwarped:?}");
 }
 
+/// The same sphere with the default base (`auto`, a GGX lobe under the product): the peak
+/// is within 15% on every held-out view, the rim and side light too, when one of the three
+/// paintings is lit from the side and one from behind (`wide_paintings`: θ_d up to 77°, so
+/// the paintings show the Fresnel). Measured: 0.999 / 1.000 / 1.000 / 0.998 / 1.000. From
+/// the standard three (θ_d ≤ 28°) the rim's peak is 0.769 of the truth, since no painting
+/// shows how much brighter the highlight grows at grazing θ_d (asserted: the test sees the
+/// difference; `fit` says so in a note).
+#[test]
+fn a_sharp_highlight_peaks_within_15_percent_on_every_view_from_paintings_that_show_grazing_light() {
+    use brdfpaint::factor::base::BaseChoice;
+    use brdfpaint::study::suite::{paintings, peaks_based, sharp_model, wide_paintings};
+    let model = sharp_model();
+    let ratios = |painted: Vec<brdfpaint::brdf::SphereView>| -> Vec<(&'static str, f64)> {
+        peaks_based(&model, &Settings::default(), &painted, BaseChoice::Auto).unwrap().into_iter().map(|(v, fit, truth)| (v, fit / truth)).collect()
+    };
+    let wide = ratios(wide_paintings());
+    assert_eq!(wide.len(), 5);
+    for (view, r) in &wide {
+        assert!((r - 1.0).abs() <= 0.15, "{view}: fitted peak / true peak = {r:.3}");
+    }
+    let standard = ratios(paintings(3));
+    assert!(standard.iter().any(|(v, r)| *v == "rim" && *r < 0.85), "{standard:?}");
+}
+
 /// Issue 15's analytic base (`factor::base`): a GGX sphere (roughness 0.2, α = 0.04) from
 /// the three standard paintings, judged on the rim-light view no painting resembles. With
 /// the default `auto` base the lobe fits the paintings (misfit below 1e-4) and carries the

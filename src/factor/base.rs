@@ -276,6 +276,13 @@ impl Lobe {
         self != Lobe::OrenNayar
     }
 
+    /// Whether only samples at grazing $\theta_d$ decide the lobe's Fresnel $k_f$ (the ridge
+    /// holds it at 0 elsewhere, [`linear_fit`]): the specular families but Ashikhmin-Shirley,
+    /// whose Fresnel is its own.
+    pub fn fresnel_from_data(self) -> bool {
+        matches!(self, Lobe::Ggx | Lobe::BlinnPhong | Lobe::Phong | Lobe::Ward)
+    }
+
     /// The lobe's diffuse shading at unit $k_d$ ($\cos^+\theta_l$, but for
     /// Ashikhmin-Shirley), its specular shading at unit $k_s$, and Schlick's $(1 -
     /// \cos\theta_d)^5$; the last two zero when either direction is at or below the horizon.

@@ -34,4 +34,4 @@ pub use param::{Domain, Param};
 pub use pattern::{headlit, Pattern, Query, Sample, HEADLIT_DEG};
 pub use prepared::{errors, prepare, Errors, Fit, Prepared, Spectral};
 pub use robust::{Robust, BOUND};
-pub use settings::{defaults, difference_range, CustomInput, DifferenceChoice, FactorSpec, Input, Method, Settings, MAX_RES_1D, MAX_RES_2D, MAX_UNKNOWNS, MAX_WARP};
+pub use settings::{defaults, difference_range, CustomInput, DifferenceChoice, DIFFERENCE_REACH_DEG, FactorSpec, Input, Method, Settings, MAX_RES_1D, MAX_RES_2D, MAX_UNKNOWNS, MAX_WARP};
