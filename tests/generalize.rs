@@ -70,7 +70,8 @@ fn two_dimensional_factors_generalize_from_three_views() {
 /// (measured 1.049, 0.956, 0.929; BENCHMARKS.md, "The wide suite"). The thesis's unwarped
 /// q(h) puts the 2° on one node and misses held-1 by 31% (asserted below, so this test
 /// tells the two tables apart). The rim and side views' grazing highlights are out of reach
-/// of any table the paintings determine (0.2 and 0.8 of the truth) and are not judged.
+/// of any table the paintings determine (0.2 and 0.8 of the truth) and are not judged here;
+/// the next test reaches them with the lobe and paintings that show grazing light.
 #[test]
 fn a_sharp_highlight_peaks_within_15_percent_on_held_out_views() {
     use brdfpaint::study::suite::{paintings, peaks, sharp_model};
