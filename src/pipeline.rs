@@ -497,8 +497,8 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
 /// Schlick's $(1 - \cos\theta_d)^5$ is 4e-5 at 30° and 0.002 at 45°
 /// ([`DIFFERENCE_REACH_DEG`]), so paintings lit near the camera leave $k_f$ at 0 and the
 /// highlight under rim light too dim. Measured on a GGX $\alpha = 0.05$ sphere (BENCHMARKS.md,
-/// "The wide suite"): the rim view's peak 0.769 of the truth from the three standard
-/// paintings, 0.998 from three that include side and back light.
+/// "The sharp highlight's rim"): the rim view's peak 0.769 of the truth from the three
+/// standard paintings, 0.998 from three that include side and back light.
 fn fresnel_unseen(fitted: &Fitted) -> Option<String> {
     let base = fitted.material.terms.first().and_then(|t| t.base)?;
     let [_, reach] = difference_range(&fitted.samples.pattern);
