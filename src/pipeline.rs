@@ -260,8 +260,8 @@ pub fn read(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading)
 }
 
 /// The light of toned paintings registered on their steps as painted (`painted`: the
-/// paintings of `views` before their tones were smoothed), when that is clear: every view's turn is kept by
-/// [`register::register`]'s own test. Then `views` take the turned geometry and the turns
+/// paintings of `views` before their tones were smoothed), when that is clear: every view's
+/// turn is kept by [`register::register`]'s own test. Then `views` take the turned geometry and the turns
 /// are returned; else `None`, nothing changed, and the light is registered on the smoothed
 /// tones as for any painting. A step's quantization error sits about the shading on both
 /// sides of its edge, while the interpolation between edges ([`tones::smooth`]) is a guess
@@ -279,7 +279,12 @@ fn register_as_painted(views: &mut [PaintedView], painted: Vec<crate::images::Pa
     if headlit {
         return Ok(None);
     }
-    let mut painted: Vec<PaintedView> = views.iter().zip(painted).map(|(v, painting)| PaintedView { painting, ..v.clone() }).collect();
+    // The smoothed paintings are not copied, only what registration reads beside them.
+    let mut painted: Vec<PaintedView> = views
+        .iter()
+        .zip(painted)
+        .map(|(v, painting)| PaintedView { name: v.name.clone(), source: v.source.clone(), geometry: v.geometry.clone(), painting })
+        .collect();
     let turns = register::register(&mut painted, gbuffers, &Settings::default())?;
     if !turns.iter().all(register::Turn::moved) {
         return Ok(None);
