@@ -146,11 +146,8 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings) -> Result<Option<
             // fault (128², seed 11) was read to a held-out error of 0.62 and a light sweep of
             // 0.94, its fit taking the inverted mapping (0.34 and under 0.5 without:
             // tests/headlit.rs).
-            let ends = match headlit {
-                false => near_outline(&view.geometry, OUTLINE_REACH),
-                true => vec![false; w * h],
-            };
-            keep_strokes(&mut stray, least, &ends, &at, &brighter, &theta_h, w);
+            let outline = (!headlit).then_some(&view.geometry);
+            keep_strokes(&mut stray, least, outline, &at, &brighter, &theta_h, w);
             grow(&mut stray, &at, w, RIM * threshold);
             strays[v] = (0..w * h).filter(|&k| stray[k]).collect();
         }
@@ -182,8 +179,8 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings) -> Result<Option<
 /// Clears the blobs of `stray` (a mask `w` to a row) that are not strokes. A stroke is a blob
 /// of at least `least` pixels; a render's misfit is a few pixels along a highlight's or a
 /// crescent's edge. A smaller blob of at least [`MIN_STROKE_PIXELS`] that reaches the outline
-/// (`ends`, [`near_outline`]) is a stroke too: people paint across the outline, and what lands
-/// on the object is often only a stroke's end. Those ends were dropped as misfit: eight
+/// of `outline` ([`reaches_outline`]) is a stroke too: people paint across the outline, and
+/// what lands on the object is often only a stroke's end. Those ends were dropped as misfit: eight
 /// strokes across the outline of a sphere painting, otherwise clean, were read to a held-out
 /// error of 0.052 (nine models' median, seed 11), and 0.013 with them (seeds 1 and 2:
 /// 0.041 → 0.008, 0.042 → 0.009; BENCHMARKS.md, "Stray strokes across the outline").
@@ -196,13 +193,13 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings) -> Result<Option<
 /// brush seeds (BENCHMARKS.md; held-out 0.96–1.03 then; with it kept, and the light judged
 /// on the tones, 0.32, 0.23 and 0.46). A dark stroke over the highlight is still a stray,
 /// and so is a bright one far from it.
-fn keep_strokes(stray: &mut [bool], least: usize, ends: &[bool], at: &[f64], brighter: &[bool], theta_h: &[f64], w: usize) {
+fn keep_strokes(stray: &mut [bool], least: usize, outline: Option<&super::Geometry>, at: &[f64], brighter: &[bool], theta_h: &[f64], w: usize) {
     let mirror = theta_h.iter().copied().filter(|t| t.is_finite()).fold(f64::INFINITY, f64::min);
     for blob in components(stray, w) {
         let Some(&worst) = blob.iter().max_by(|&&a, &&b| at[a].total_cmp(&at[b])) else { continue };
         let nearest = blob.iter().map(|&k| theta_h[k]).fold(f64::INFINITY, f64::min);
-        let end = blob.len() >= MIN_STROKE_PIXELS && blob.iter().any(|&k| ends[k]);
-        if (blob.len() < least && !end) || (brighter[worst] && nearest <= mirror + HIGHLIGHT_DEG) {
+        let end = || blob.len() >= MIN_STROKE_PIXELS && outline.is_some_and(|g| blob.iter().any(|&k| reaches_outline(g, k)));
+        if (blob.len() < least && !end()) || (brighter[worst] && nearest <= mirror + HIGHLIGHT_DEG) {
             for k in blob {
                 stray[k] = false;
             }
@@ -210,18 +207,14 @@ fn keep_strokes(stray: &mut [bool], least: usize, ends: &[bool], at: &[f64], bri
     }
 }
 
-/// The object's pixels within `reach` pixels (8-neighbour steps) of one that does not see it:
-/// the band along the outline, where a stroke across it ends on the object.
-fn near_outline(geometry: &super::Geometry, reach: usize) -> Vec<bool> {
-    let len = geometry.pixels.len();
-    let mut near: Vec<bool> = geometry.pixels.iter().map(Option::is_none).collect();
-    for _ in 0..reach {
-        let next: Vec<usize> = (0..len).filter(|&k| !near[k] && neighbours8(k, geometry.width, len).any(|m| near[m])).collect();
-        for k in next {
-            near[k] = true;
-        }
-    }
-    near.iter().zip(&geometry.pixels).map(|(&n, p)| n && p.is_some()).collect()
+/// Whether pixel `k` of `geometry` lies within [`OUTLINE_REACH`] pixels (8-neighbour steps)
+/// of one that does not see the object: on the band along the outline, where a stroke across
+/// it ends on the object. Only small blobs ask, so the band is never built.
+fn reaches_outline(geometry: &super::Geometry, k: usize) -> bool {
+    let (w, h) = (geometry.width as i64, geometry.height as i64);
+    let (i, j) = ((k % geometry.width) as i64, (k / geometry.width) as i64);
+    let r = OUTLINE_REACH as i64;
+    ((j - r).max(0)..=(j + r).min(h - 1)).any(|y| ((i - r).max(0)..=(i + r).min(w - 1)).any(|x| geometry.pixels[(y * w + x) as usize].is_none()))
 }
 
 /// Grows `stray` (a mask `w` to a row) [`GROWTH`] pixels into its 8-neighbours whose miss `at`
