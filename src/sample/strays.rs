@@ -101,8 +101,8 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings) -> Result<Option<
         if n == 0 {
             break;
         }
-        // As the fit has it: a headlit painting's light factor drawn to its physical shape.
         let headlit = samples.pattern.headlit();
+        // As the fit has it: a headlit painting's light factor drawn to its physical shape.
         let prepared = crate::factor::prepare(&samples.pattern, &settings.for_pattern(&samples.pattern))?;
         let fit = prepared.solve(&samples.values, Mapping::Offset(None))?;
         let predicted = prepared.predict(&fit.tables, &fit.map);
