@@ -191,7 +191,8 @@ pub fn read(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading)
     // Every pass's proposal per view, for toned views to judge on their tones below.
     let mut proposals: Vec<Vec<(glam::DQuat, f64)>> = turns.iter().map(|t| vec![(t.proposed, t.proposed_gain)]).collect();
     if reading.repaint_strays {
-        if let Some(found) = strays::repaint(views, &Settings::default())? {
+        let tones_of: Vec<Option<&tones::Toned>> = (0..views.len()).map(|v| toned.iter().find(|(i, _)| *i == v).map(|(_, t)| t)).collect();
+        if let Some(found) = strays::repaint(views, &Settings::default(), &tones_of)? {
             notes.extend(found.describe(views));
             // A repainted stray's tone interval is the stroke's, not the shading's.
             for (i, t) in toned.iter_mut() {

@@ -96,7 +96,7 @@ fn stray_strokes_on_headlit_paintings_are_repainted() {
     for name in ["lambert", "blinn-phong-128"] {
         let model = faults::suite().into_iter().find(|m| m.name() == name).unwrap();
         let mut views = vec![faults::paint(&view, &model, &Faults::strays()).unwrap()];
-        let found = brdfpaint::sample::strays::repaint(&mut views, &Settings::default()).unwrap();
+        let found = brdfpaint::sample::strays::repaint(&mut views, &Settings::default(), &[]).unwrap();
         let n = found.map_or(0, |f| f.per_view[0].len());
         eprintln!("{name}: {n} pixels repainted");
         // Measured at 128²: 231 and 209 pixels (0 and 0 without the prior).
