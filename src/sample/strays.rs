@@ -216,7 +216,7 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
                 let limit = (TONE_TAIL * sorted[count * 99 / 100]).max(MIN_OFF_TONE);
                 // Not about the view's mirror point, where a highlight a few degrees off the
                 // fit's is a tone or two off on both sides ([`keep_strokes`]).
-                let mirror = theta_h.iter().copied().filter(|t| t.is_finite()).fold(f64::INFINITY, f64::min);
+                let mirror = mirror_point(&theta_h);
                 for i in range {
                     let k = samples.origin[i].1;
                     if off[i] > limit && theta_h[k] > mirror + HIGHLIGHT_DEG {
@@ -290,7 +290,7 @@ fn off_tone(fit: &[f64; 3], light: [f64; 3], bounds: &Bounds) -> f64 {
 /// on the tones, 0.32, 0.23 and 0.46). A dark stroke over the highlight is still a stray,
 /// and so is a bright one far from it.
 fn keep_strokes(stray: &mut [bool], least: usize, outline: Option<&super::Geometry>, at: &[f64], brighter: &[bool], theta_h: &[f64], w: usize) {
-    let mirror = theta_h.iter().copied().filter(|t| t.is_finite()).fold(f64::INFINITY, f64::min);
+    let mirror = mirror_point(theta_h);
     for blob in components(stray, w) {
         let Some(&worst) = blob.iter().max_by(|&&a, &&b| at[a].total_cmp(&at[b])) else { continue };
         let nearest = blob.iter().map(|&k| theta_h[k]).fold(f64::INFINITY, f64::min);
@@ -301,6 +301,12 @@ fn keep_strokes(stray: &mut [bool], least: usize, outline: Option<&super::Geomet
             }
         }
     }
+}
+
+/// The view's smallest $\theta_h$ (degrees; `theta_h` is NaN off the samples): where its
+/// mirror point, and a highlight, lies.
+fn mirror_point(theta_h: &[f64]) -> f64 {
+    theta_h.iter().copied().filter(|t| t.is_finite()).fold(f64::INFINITY, f64::min)
 }
 
 /// Whether pixel `k` of `geometry` lies within [`OUTLINE_REACH`] pixels (8-neighbour steps)
