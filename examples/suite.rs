@@ -91,7 +91,7 @@ fn main() -> brdfpaint::Result<()> {
     });
     let (lobe, _) = brdfpaint::factor::base::Base::fit(&pattern, &values).expect("a lobe");
     let on_base_s = brdfpaint::study::bench::median_time(50, 1.0, || {
-        let fit = brdfpaint::factor::base::solve_on_base(&prepared, &pattern, &values, brdfpaint::factor::Mapping::Auto, &lobe);
+        let fit = brdfpaint::factor::base::solve_on_base(&prepared, &pattern, &values, brdfpaint::factor::Mapping::Auto, &lobe, 1.0);
         std::hint::black_box(fit.expect("solve"));
     });
     println!(

@@ -505,7 +505,7 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
         // The base re-solves on the same prepared system: one more solve, and the lobe's
         // own fit (BENCHMARKS.md: about 58 ms for 7.6k samples, seven lobe families).
         let (p, s) = (&solved.prepared, &samples);
-        if let Some(based) = Material::fit_based(p, &s.pattern, &s.values, &solved.fit, &settings, opts.mapping, opts.base, provenance.clone())? {
+        if let Some(based) = Material::fit_based(p, &s.pattern, &s.values, &solved.fit, &settings, opts.mapping, opts.base, views.len() == 1, provenance.clone())? {
             uniform = based;
         }
     }

@@ -152,11 +152,14 @@ fn analytic_paintings_generalize_despite_brush_noise() {
 }
 
 #[test]
-fn measured_like_paint_generalizes_better_from_two_views() {
-    // Thesis 4.4: a second view constrains the factors that one view leaves free.
+fn measured_like_paint_generalizes_from_one_view_and_two() {
+    // Thesis 4.4: a second view constrains the factors that one view leaves free. On one
+    // brushed painting the analytic lobe now does it (`factor::base::TEXTURE_CREDIT`): the
+    // product alone held the brush in rings, and one view was held out at 0.087 against
+    // two views' 0.037; now 0.019, and two views as before.
     let held = |name: &str| -> f64 { column(&runs().first.stdout, name, HELD_OUT).parse().unwrap() };
     let (one, two) = (held("gold-paint"), held("gold-paint-2-views"));
-    assert!(two < 0.1 && two < 0.75 * one, "gold paint held-out: 1 view {one}, 2 views {two}");
+    assert!(one < 0.05 && two < 0.05, "gold paint held-out: 1 view {one}, 2 views {two}");
     assert!(held("purple-paint") < 0.1);
     assert!(matches!(paintings::materials()[2].truth, Truth::Abc { .. }));
     // Unknown truth: no held-out number.

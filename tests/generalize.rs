@@ -152,7 +152,7 @@ fn a_grainy_painting_keeps_the_lobe_its_grain_explains() {
         let values: Vec<[f64; 3]> = pattern.shade(|q| model.shading(q)).into_iter().map(|v| v.map(|x| x * (0.05 * rng.normal()).exp())).collect();
         let (_, lobe) = Base::fit(&pattern, &values).unwrap();
         let held = |choice| {
-            let fit = solve_based(&prepared, &pattern, &values, Mapping::Auto, choice).unwrap();
+            let fit = solve_based(&prepared, &pattern, &values, Mapping::Auto, choice, true).unwrap();
             let e = relative_rms(views.iter().flatten().map(|q| (fit.eval(&settings, q), model.shading(q))));
             (fit.base.is_some(), e)
         };

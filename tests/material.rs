@@ -220,7 +220,7 @@ fn version_2_loads_and_a_base_round_trips() {
     let values = pattern.shade(|q| model.shading(q));
     let settings = Settings::default();
     let prepared = prepare(&pattern, &settings).unwrap();
-    let fit = solve_based(&prepared, &pattern, &values, Mapping::Auto, BaseChoice::Ggx).unwrap();
+    let fit = solve_based(&prepared, &pattern, &values, Mapping::Auto, BaseChoice::Ggx, false).unwrap();
     let material = Material::from_based_fit(&settings, &fit, Provenance::default()).unwrap();
     let base = material.terms[0].base.expect("a base");
     // The material evaluates the based fit exactly (up to the tables' f32).

@@ -202,6 +202,8 @@ impl Material {
     /// or `auto` when the lobe does not fit the samples): keep the plain fit then.
     /// `plain` is the product's own fit of `values` on `prepared`: `auto` judges the lobe
     /// against its misfit (the painting's roughness, [`crate::factor::base::excess`]).
+    /// `one_view`: the samples are one painting's, where the product holds brush texture as
+    /// well as shading ([`crate::factor::base::TEXTURE_CREDIT`]).
     /// `provenance.errors` is replaced by the based fit's errors on $S$.
     // The fit's inputs, each the caller's: bundling them would only rename them.
     #[allow(clippy::too_many_arguments)]
@@ -213,15 +215,16 @@ impl Material {
         settings: &Settings,
         mapping: crate::factor::Mapping,
         choice: crate::factor::base::BaseChoice,
+        one_view: bool,
         provenance: Provenance,
     ) -> Result<Option<Material>> {
         use crate::factor::base::{choose, product_misfit, BaseChoice};
         let product = if choice == BaseChoice::Auto { product_misfit(prepared, values, plain) } else { 0.0 };
         // No lobe, no second solve: the plain fit stands.
-        let Some(base) = choose(pattern, values, choice, product) else {
+        let Some((base, weight)) = choose(pattern, values, choice, product, one_view) else {
             return Ok(None);
         };
-        let fit = crate::factor::base::solve_on_base(prepared, pattern, values, mapping, &base)?;
+        let fit = crate::factor::base::solve_on_base(prepared, pattern, values, mapping, &base, weight)?;
         let provenance = Provenance { errors: Some(fit.fit.errors), ..provenance };
         Material::from_based_fit(settings, &fit, provenance).map(Some)
     }

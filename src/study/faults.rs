@@ -382,7 +382,7 @@ pub fn measure(
         let mut material = Material::from_fit(settings, &fit, Provenance::default())?;
         // As `brdfpaint fit` does: the analytic base when it explains the painting as well as
         // the painting's roughness allows.
-        if let Some(based) = Material::fit_based(p, &samples.pattern, &samples.values, &fit, settings, crate::factor::Mapping::Auto, base, Provenance::default())? {
+        if let Some(based) = Material::fit_based(p, &samples.pattern, &samples.values, &fit, settings, crate::factor::Mapping::Auto, base, views.len() == 1, Provenance::default())? {
             material = based;
         }
         let held = held_out_error(&material, model, held_out, None)?;
