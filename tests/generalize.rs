@@ -148,8 +148,8 @@ fn a_grainy_painting_keeps_the_lobe_its_grain_explains() {
     let prepared = prepare(&pattern, &settings).unwrap();
     let views: Vec<Vec<brdfpaint::factor::Query>> = held_out(48).iter().map(|(_, v)| v.pixels().into_iter().map(|p| p.query).collect()).collect();
     let mut rng = brdfpaint::demo::brush::SplitMix::new(11);
-    let mut judge = |model: &Analytic| {
-        let values: Vec<[f64; 3]> = pattern.shade(|q| model.shading(q)).into_iter().map(|v| v.map(|x| x * (0.05 * rng.normal()).exp())).collect();
+    let mut judge = |model: &Analytic, grain: f64| {
+        let values: Vec<[f64; 3]> = pattern.shade(|q| model.shading(q)).into_iter().map(|v| v.map(|x| x * (grain * rng.normal()).exp())).collect();
         let (_, lobe) = Base::fit(&pattern, &values).unwrap();
         let held = |choice| {
             let fit = solve_based(&prepared, &pattern, &values, Mapping::Auto, choice, true).unwrap();
@@ -159,14 +159,19 @@ fn a_grainy_painting_keeps_the_lobe_its_grain_explains() {
         (lobe, held(BaseChoice::Auto), held(BaseChoice::None).1)
     };
     let ggx = Analytic::Ggx { diffuse: [0.40, 0.25, 0.12], f0: [0.50, 0.42, 0.35], roughness: 0.7 };
-    let (lobe, (kept, auto), none) = judge(&ggx);
+    let (lobe, (kept, auto), none) = judge(&ggx, 0.05);
     eprintln!("ggx: lobe misfit {lobe:.4}, kept {kept}, held-out auto {auto:.4}, none {none:.4}");
     assert!(lobe > 2.0 * AUTO_MISFIT, "the grain should misfit the lobe alone: {lobe:.4}");
     assert!(kept && auto < 0.5 * none, "ggx: kept {kept}, held-out auto {auto:.4}, none {none:.4}");
     let velvet = Analytic::Velvet { diffuse: [0.30, 0.05, 0.12], sheen: [0.60, 0.35, 0.50], roughness: 0.35 };
-    let (lobe, (kept, auto), none) = judge(&velvet);
-    eprintln!("velvet: lobe misfit {lobe:.4}, kept {kept}, held-out auto {auto:.4}, none {none:.4}");
-    assert!(!kept && auto == none, "velvet: kept {kept}, held-out auto {auto:.4}, none {none:.4}");
+    // With 10% grain the painting's roughness (0.10) is far above the lobe's 0.039 beyond
+    // it, but it is grain, which the product does not hold, not texture
+    // (`factor::base::grain`): kept, the lobe was held out at 0.176 against about 0.03.
+    for grain in [0.05, 0.10] {
+        let (lobe, (kept, auto), none) = judge(&velvet, grain);
+        eprintln!("velvet, {grain} grain: lobe misfit {lobe:.4}, kept {kept}, held-out auto {auto:.4}, none {none:.4}");
+        assert!(!kept && auto == none, "velvet, {grain} grain: kept {kept}, held-out auto {auto:.4}, none {none:.4}");
+    }
 }
 
 /// Issue 15's targets on the 23-model wide suite, with the default `auto` base (a lobe of

@@ -783,7 +783,7 @@ pub const TEXTURE_SHRINK: f64 = 2.0;
 /// measured through noise of power $k r^2$ (a Wiener gain). Where the lobe misses nothing
 /// beyond the texture the correction is texture, and goes; where it misses far more, the
 /// correction is shading, and stays. A brushed Lambertian sphere kept its Phong lobe before
-/// and its held-out error was 0.030, the product's rings; at this weight 0.016 (brush, 10°
+/// and its held-out error was 0.030, the product's rings; at this weight 0.015 (brush, 10°
 /// off, seed 11). 1 when there is neither ($e = r = 0$).
 pub fn correction_weight(excess: f64, roughness: f64) -> f64 {
     let (e2, r2) = (excess * excess, TEXTURE_SHRINK * roughness * roughness);
