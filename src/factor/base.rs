@@ -708,9 +708,10 @@ pub fn choose(pattern: &Pattern, values: &[[f64; 3]], choice: BaseChoice, produc
             // Only the texture the product can hold counts: not the grain from pixel to pixel.
             let texture = || (roughness * roughness - (GRAIN_WEIGHT * grain(pattern, values)).powi(2)).max(0.0).sqrt();
             let limit = if one_view { AUTO_MISFIT.max(TEXTURE_CREDIT * texture()) } else { AUTO_MISFIT };
-            let (base, lobe) = Base::fit_any(pattern, values).filter(|b| excess(b.1, product) <= limit)?;
-            let weight = if one_view { correction_weight(excess(lobe, product), roughness) } else { 1.0 };
-            Some((base, weight))
+            let (base, misfit) = Base::fit_any(pattern, values)?;
+            let beyond = excess(misfit, product);
+            let weight = if one_view { correction_weight(beyond, roughness) } else { 1.0 };
+            (beyond <= limit).then_some((base, weight))
         }
     }
 }

@@ -162,7 +162,9 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
             })
             .collect();
         let miss: Vec<f64> = signed.iter().map(|r| r.abs()).collect();
-        let off: Vec<f64> = (0..n)
+        // Only toned views read it ([`TONE_TAIL`]).
+        let toned_views = intervals.iter().any(Option::is_some);
+        let off: Vec<f64> = (0..if toned_views { n } else { 0 })
             .map(|i| {
                 let (v, k) = samples.origin[i];
                 let bounds = intervals[v].as_ref().and_then(|at| at[k]);
@@ -258,16 +260,8 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
 fn off_tone(fit: &[f64; 3], light: [f64; 3], bounds: &Bounds) -> f64 {
     (0..3)
         .map(|c| {
-            let f = fit[c].max(0.0) * light[c];
             let [lo, hi] = bounds[c];
-            let width = (hi - lo).max(1e-9);
-            if f < lo {
-                (lo - f) / width
-            } else if f > hi {
-                (f - hi) / width
-            } else {
-                0.0
-            }
+            super::tones::distance_outside(fit[c].max(0.0) * light[c], bounds[c]) / (hi - lo).max(1e-9)
         })
         .fold(0.0, f64::max)
 }

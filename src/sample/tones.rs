@@ -343,13 +343,23 @@ fn outside<const N: usize>(points: &[([f64; N], [f64; 2])], start: &[f64], x: &[
     let peak = start.iter().copied().fold(0.0, f64::max);
     let (mut r, mut t) = (0.0, 0.0);
     for ((b, [lo, hi]), &s) in points.iter().zip(start) {
-        let f = proxy::eval(b, x);
-        let d = if f < *lo { lo - f } else if f > *hi { f - hi } else { 0.0 };
+        let d = distance_outside(proxy::eval(b, x), [*lo, *hi]);
         let w = 1.0 / (s + 0.05 * peak);
         r += (w * d).powi(2);
         t += (w * s).powi(2);
     }
     (r / t.max(f64::MIN_POSITIVE)).sqrt()
+}
+
+/// How far `y` lies outside interval `[lo, hi]` (0 inside it).
+pub(super) fn distance_outside(y: f64, [lo, hi]: [f64; 2]) -> f64 {
+    if y < lo {
+        lo - y
+    } else if y > hi {
+        y - hi
+    } else {
+        0.0
+    }
 }
 
 /// A site's basis for a lobe family's reading: ambient, the family's diffuse shape `d`, the
