@@ -676,27 +676,40 @@ impl BasedFit {
 pub fn solve_based(prepared: &Prepared, pattern: &Pattern, values: &[[f64; 3]], mapping: Mapping, choice: BaseChoice, one_view: bool) -> Result<BasedFit> {
     // Only `auto` judges the lobe against the free product, so only it needs that fit first.
     let plain = if choice == BaseChoice::Auto { Some(prepared.solve(values, mapping)?) } else { None };
-    let product = plain.as_ref().map_or(0.0, |fit| product_misfit(prepared, values, fit));
+    let product = plain.as_ref().map_or(Roughness::default(), |fit| product_roughness(prepared, pattern, values, fit));
     match choose(pattern, values, choice, product, one_view) {
         Some((base, weight)) => solve_on_base(prepared, pattern, values, mapping, &base, weight),
         None => Ok(BasedFit { base: None, fit: match plain { Some(fit) => fit, None => prepared.solve(values, mapping)? } }),
     }
 }
 
-/// The free product's [`misfit`] on the values it was fitted to (`fit`, solved on
-/// `prepared`): the painting's roughness that [`choose`] credits under `auto`.
-pub fn product_misfit(prepared: &Prepared, values: &[[f64; 3]], fit: &Fit) -> f64 {
-    misfit(values, &prepared.predict(&fit.tables, &fit.map))
+/// What the free product's fit tells of a painting, for [`choose`] under `auto`: the
+/// roughness no smooth model holds, and the part of it that is texture.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Roughness {
+    /// The free product's [`misfit`] on the values it was fitted to.
+    pub misfit: f64,
+    /// The part of the misfit the product can hold in its tables ([`texture`]), at most
+    /// [`ROUGHNESS_MAX`].
+    pub texture: f64,
+}
+
+/// The free product's [`Roughness`] on the values it was fitted to (`fit`, solved on
+/// `prepared`).
+pub fn product_roughness(prepared: &Prepared, pattern: &Pattern, values: &[[f64; 3]], fit: &Fit) -> Roughness {
+    let predicted = prepared.predict(&fit.tables, &fit.map);
+    let misfit = misfit(values, &predicted);
+    Roughness { misfit, texture: texture(pattern, values, &predicted, misfit) }
 }
 
 /// The lobe `choice` gives for `values` on `pattern`, and the weight of the product's
 /// correction over it ([`solve_on_base`]): none for `none`; for `auto`, the lobe when what
 /// it misfits beyond the painting's own roughness ([`excess`] over `product`, the free
-/// product's [`misfit`] on the same values; 0 to judge the lobe alone) is at most
-/// [`AUTO_MISFIT`], or, on one painting (`one_view`) not lit from the eye, at most
-/// [`TEXTURE_CREDIT`] times its texture (the roughness less its [`grain`]); the weight is 1
-/// but there ([`correction_weight`]).
-pub fn choose(pattern: &Pattern, values: &[[f64; 3]], choice: BaseChoice, product: f64, one_view: bool) -> Option<(Base, f64)> {
+/// product's [`Roughness`] on the same values; the default to judge the lobe alone) is at
+/// most [`AUTO_MISFIT`], or, on one painting (`one_view`) not lit from the eye, at most
+/// [`TEXTURE_CREDIT`] times its [`texture`]; the weight is 1 but there
+/// ([`correction_weight`]).
+pub fn choose(pattern: &Pattern, values: &[[f64; 3]], choice: BaseChoice, product: Roughness, one_view: bool) -> Option<(Base, f64)> {
     match choice {
         BaseChoice::None => None,
         BaseChoice::Ggx => Base::fit(pattern, values).map(|b| (b.0, 1.0)),
@@ -704,12 +717,10 @@ pub fn choose(pattern: &Pattern, values: &[[f64; 3]], choice: BaseChoice, produc
             // Not under a headlight, where every family holds the one angle a painting shows
             // through some function of it, and which is kept decides every other light.
             let one_view = one_view && !pattern.headlit();
-            let roughness = product.min(ROUGHNESS_MAX);
-            // Only the texture the product can hold counts: not the grain from pixel to pixel.
-            let texture = || (roughness * roughness - (GRAIN_WEIGHT * grain(pattern, values)).powi(2)).max(0.0).sqrt();
-            let limit = if one_view { AUTO_MISFIT.max(TEXTURE_CREDIT * texture()) } else { AUTO_MISFIT };
+            let roughness = product.misfit.min(ROUGHNESS_MAX);
+            let limit = if one_view { AUTO_MISFIT.max(TEXTURE_CREDIT * product.texture) } else { AUTO_MISFIT };
             let (base, misfit) = Base::fit_any(pattern, values)?;
-            let beyond = excess(misfit, product);
+            let beyond = excess(misfit, product.misfit);
             let weight = if one_view { correction_weight(beyond, roughness) } else { 1.0 };
             (beyond <= limit).then_some((base, weight))
         }
@@ -722,18 +733,61 @@ pub fn choose(pattern: &Pattern, values: &[[f64; 3]], choice: BaseChoice, produc
 /// them, so a painting with brush texture misfits a lobe of its own family by about as
 /// much as the texture (0.05 at ±8%) beyond the product, and [`AUTO_MISFIT`] alone turned
 /// most of them away. There a lobe is kept while [`excess`] is at most this many times the
-/// painting's texture (its roughness less its [`grain`], which the product does not hold):
-/// faults study, brush texture and the light 10° off, twelve brush seeds, nine models'
-/// held-out median (mean over seeds) 0.0427 → 0.0214 with [`TEXTURE_SHRINK`]; every fault,
-/// sixteen seeds, 0.0593 → 0.0545 (BENCHMARKS.md, "Brush texture: the lobe over the
-/// rings"). A Gooch painting, of no family, misses by 2.3× its roughness with brush texture
-/// and 3.2× with every fault, and keeps the product.
-pub const TEXTURE_CREDIT: f64 = 1.5;
+/// painting's [`texture`] (what of its roughness the product can hold): faults study, brush
+/// texture and the light 10° off, twelve brush seeds, nine models' held-out median (mean
+/// over seeds) 0.0427 → 0.0214 with [`TEXTURE_SHRINK`]; every fault, sixteen seeds, 0.0593
+/// → 0.0545 at 1.5 (BENCHMARKS.md, "Brush texture: the lobe over the rings"). 1.7 since
+/// the texture is read through noise ([`texture`]): every fault, seeds 1–12, 0.0566 →
+/// 0.0542, and 17–24 0.0529 → 0.0520; brush alone, strays, clean and MERL unchanged
+/// (BENCHMARKS.md, "Brush texture through noise"). A Gooch painting, of no family, misses
+/// by 2.3× its roughness with brush texture and 3.2× with every fault, and keeps the
+/// product.
+pub const TEXTURE_CREDIT: f64 = 1.7;
+
+/// The texture in a painting's roughness: how much of the free product's misfit (`misfit`,
+/// of `predicted` on `values`) is structure the product can hold in its tables, at most
+/// [`ROUGHNESS_MAX`]. Grain independent from pixel to pixel is averaged away by every table
+/// bin, so the product holds none of it, however strong. Two estimates, each blind where
+/// the other sees, and the larger counts:
+///
+/// - the residual's covariance between neighbouring pixels ([`neighbours`]), in the
+///   measure of [`misfit`]: brush texture runs along strokes, so its residual is alike from
+///   one pixel to the next, and independent noise adds nothing to it (brush with 1% sRGB
+///   noise reads 0.046 as without; the old reading, below alone, read 0 and kept no lobe:
+///   held out 0.0374 → 0.0236, BENCHMARKS.md). But a sharp highlight a pixel or two wide,
+///   whose residual changes sign from one pixel to the next, reads none;
+/// - the misfit less [`GRAIN_WEIGHT`] times the [`grain`] (in quadrature), which reads
+///   such sparse features as texture (a clean MERL painting's, where the lobe carries the
+///   highlight to new lights: 0.2514 → 0.2320 from one painting) but dense noise, heavy
+///   in the shadows, at twice its weight as more than everything.
+pub fn texture(pattern: &Pattern, values: &[[f64; 3]], predicted: &[[f64; 3]], misfit: f64) -> f64 {
+    let roughness = misfit.min(ROUGHNESS_MAX);
+    let sparse = (roughness * roughness - (GRAIN_WEIGHT * grain(pattern, values)).powi(2)).max(0.0).sqrt();
+    let Some((_, delta)) = softening(values) else { return 0.0 };
+    let (mut covariance, mut energy) = (0.0, 0.0);
+    for i in neighbours(pattern) {
+        let (s, t, p, q) = (values[i], values[i + 1], predicted[i], predicted[i + 1]);
+        for c in 0..3 {
+            let w = 1.0 / ((s[c] + delta[c]) * (t[c] + delta[c]));
+            covariance += (p[c] - s[c]) * (q[c] - t[c]) * w;
+            energy += s[c] * t[c] * w;
+        }
+    }
+    let alike = if energy > 0.0 { (covariance / energy).max(0.0).sqrt() } else { 0.0 };
+    alike.min(ROUGHNESS_MAX).max(sparse)
+}
+
+/// The samples `i` whose next sample `i + 1` is its neighbouring pixel: their light and
+/// view directions both lie within [`NEIGHBOUR_DEG`] (the next pixel of a painting's row;
+/// not the first of the next row, nor of the next view).
+fn neighbours(pattern: &Pattern) -> impl Iterator<Item = usize> + '_ {
+    let near = NEIGHBOUR_DEG.to_radians().cos();
+    pattern.queries.windows(2).enumerate().filter(move |(_, q)| q[0].l.dot(q[1].l) > near && q[0].v.dot(q[1].v) > near).map(|(i, _)| i)
+}
 
 /// The painting's grain: how much its values change from one pixel to the next, in the
 /// relative measure of [`misfit`] ($(S_i - S_{i+1}) / (\bar S + \delta)$ per channel, of
-/// consecutive samples whose light and view directions lie within [`NEIGHBOUR_DEG`]: the
-/// next pixel of a painting's row), as a standard deviation per sample (the median absolute
+/// [`neighbours`]), as a standard deviation per sample (the median absolute
 /// difference over 0.6745, over $\sqrt 2$). Grain independent from pixel to pixel is
 /// averaged away by every table bin, so the product holds none of it and its misfit is
 /// the grain's; brush texture runs along strokes, changes little from one pixel to the next,
@@ -742,12 +796,10 @@ pub const TEXTURE_CREDIT: f64 = 1.5;
 /// grain: its sheen, of no family, not the grain.
 pub fn grain(pattern: &Pattern, values: &[[f64; 3]]) -> f64 {
     let Some((_, delta)) = softening(values) else { return 0.0 };
-    let near = NEIGHBOUR_DEG.to_radians().cos();
     let mut d: Vec<f64> = Vec::with_capacity(3 * values.len());
-    for (q, v) in pattern.queries.windows(2).zip(values.windows(2)) {
-        if q[0].l.dot(q[1].l) > near && q[0].v.dot(q[1].v) > near {
-            d.extend((0..3).map(|c| (v[0][c] - v[1][c]).abs() / (0.5 * (v[0][c] + v[1][c]).max(0.0) + delta[c])));
-        }
+    for i in neighbours(pattern) {
+        let (s, t) = (values[i], values[i + 1]);
+        d.extend((0..3).map(|c| (s[c] - t[c]).abs() / (0.5 * (s[c] + t[c]).max(0.0) + delta[c])));
     }
     if d.is_empty() {
         return 0.0;
@@ -757,15 +809,15 @@ pub fn grain(pattern: &Pattern, values: &[[f64; 3]]) -> f64 {
     *median / 0.6745 / std::f64::consts::SQRT_2
 }
 
-/// How many times its [`grain`] a painting's roughness loses before [`TEXTURE_CREDIT`]
-/// credits the rest as texture: the estimate reads low where the grain is strong (0.047 for
+/// How many times its [`grain`] a painting's roughness loses in [`texture`]'s second
+/// estimate: the estimate reads low where the grain is strong (0.047 for
 /// 5% grain per pixel, 0.086 for 10%), and a lobe of the wrong family taken for texture
 /// costs more than a lobe left out (a velvet painting with 10% grain, with its Oren-Nayar
 /// lobe: held out 0.176, against 0.028 with the product alone).
 const GRAIN_WEIGHT: f64 = 2.0;
 
 /// How close (degrees, in both the light's and the view's direction) consecutive samples
-/// are neighbouring pixels for [`grain`]: a 128² sphere's pixels are 1–2° apart at its
+/// are neighbouring pixels ([`neighbours`]): a 128² sphere's pixels are 1–2° apart at its
 /// centre.
 const NEIGHBOUR_DEG: f64 = 5.0;
 
@@ -909,6 +961,25 @@ mod tests {
         assert!((m - 0.1).abs() < 1e-12, "{m}");
         let half: Vec<[f64; 3]> = values.iter().enumerate().map(|(i, v)| if i % 2 == 0 { v.map(|x| 1.1 * x) } else { *v }).collect();
         assert!((misfit(&values, &half) - 0.1 / 2f64.sqrt()).abs() < 1e-12);
+    }
+
+    /// [`texture`] is what neighbouring pixels share: on a painting whose prediction is the
+    /// truth, 10% noise independent per pixel misfits by 0.1 and is no texture; stripes of
+    /// ±5% along the rows (32 pixels a period) misfit by 0.05/√2 and are all texture.
+    #[test]
+    fn texture_is_what_neighbours_share() {
+        let truth = Analytic::Lambert { albedo: [0.7, 0.45, 0.2] };
+        let pattern = SphereView::new(DVec3::new(0.3, 0.4, 1.0), 128).pattern();
+        let clean = pattern.shade(|q| truth.shading(q));
+        let mut rng = crate::demo::brush::SplitMix::new(3);
+        let noisy: Vec<[f64; 3]> = clean.iter().map(|v| v.map(|x| x * (1.0 + 0.1 * rng.normal()))).collect();
+        let m = misfit(&noisy, &clean);
+        let t = texture(&pattern, &noisy, &clean, m);
+        assert!((m - 0.1).abs() < 0.01 && t < 0.02, "noise: misfit {m}, texture {t}");
+        let striped: Vec<[f64; 3]> = clean.iter().enumerate().map(|(i, v)| v.map(|x| x * (1.0 + 0.05 * (std::f64::consts::TAU * i as f64 / 32.0).sin()))).collect();
+        let m = misfit(&striped, &clean);
+        let t = texture(&pattern, &striped, &clean, m);
+        assert!((m - 0.05 / 2f64.sqrt()).abs() < 0.003 && (t - m).abs() < 0.05 * m, "stripes: misfit {m}, texture {t}");
     }
 
     /// nnls on a problem with a known non-negative solution and one with a clamped unknown.
