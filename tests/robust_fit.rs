@@ -15,10 +15,17 @@ use glam::DVec3;
 
 const SIZE: usize = 128;
 
-fn study(f: &Faults) -> (Vec<faults::Row>, Vec<faults::Row>) {
+/// The study's held-out views and its one painted view (painted `light_off_deg` off the
+/// scene's light), at [`SIZE`].
+fn views(light_off_deg: f64) -> (Vec<StudyView>, [FaultyView; 1]) {
     let mut sampler = SceneSampler::new().unwrap();
     let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, SIZE).unwrap()).collect();
-    let painted = [FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, f.light_off_deg).unwrap()];
+    let painted = [FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, light_off_deg).unwrap()];
+    (held, painted)
+}
+
+fn study(f: &Faults) -> (Vec<faults::Row>, Vec<faults::Row>) {
+    let (held, painted) = views(f.light_off_deg);
     let models = faults::suite();
     let settings = Settings::default();
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
@@ -135,9 +142,7 @@ fn auto_does_not_buy_a_tiny_gain_with_inverted() {
 /// the clean truth: the nine models' rows, and the median of each.
 fn brushed(faults: &Faults) -> ((Vec<faults::Row>, f64), (Vec<faults::Row>, f64)) {
     use brdfpaint::factor::base::BaseChoice;
-    let mut sampler = SceneSampler::new().unwrap();
-    let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, SIZE).unwrap()).collect();
-    let painted = [FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, faults.light_off_deg).unwrap()];
+    let (held, painted) = views(faults.light_off_deg);
     let models = faults::suite();
     let settings = Settings::default();
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);

@@ -758,8 +758,8 @@ pub const TEXTURE_CREDIT: f64 = 1.7;
 ///   whose residual changes sign from one pixel to the next, reads none;
 /// - the misfit less [`GRAIN_WEIGHT`] times the [`grain`] (in quadrature), which reads
 ///   such sparse features as texture (a clean MERL painting's, where the lobe carries the
-///   highlight to new lights: 0.2514 → 0.2320 from one painting) but dense noise, heavy
-///   in the shadows, at twice its weight as more than everything.
+///   highlight to new lights: 0.2514 → 0.2320 from one painting), but counts dense noise
+///   (heavy in the shadows) twice over, as more than the whole roughness.
 pub fn texture(pattern: &Pattern, values: &[[f64; 3]], predicted: &[[f64; 3]], misfit: f64) -> f64 {
     let roughness = misfit.min(ROUGHNESS_MAX);
     let sparse = (roughness * roughness - (GRAIN_WEIGHT * grain(pattern, values)).powi(2)).max(0.0).sqrt();
