@@ -12,7 +12,8 @@
 //! A sample is a stray when the factored least-squares fit of the painting (thesis eq. 3.9,
 //! offset mapping; with the light prior when the painting is headlit, as `fit` has it:
 //! without, that fit of a headlit painting missed its median sample by a log ratio of about
-//! 1 and no stroke stood out) misses it by far more than it misses the painting as a whole:
+//! 1 and no stroke stood out; and again with it when the free fit collapses, [`COLLAPSED`])
+//! misses it by far more than it misses the painting as a whole:
 //! its largest per-channel log ratio $|\ln((y + \epsilon) / (f + \epsilon))|$ (the floor
 //! $\epsilon$ is [`FLOOR`] of the brightest value) exceeds [`SPREAD`] robust standard
 //! deviations of all samples' (from their median absolute value) and at least
@@ -38,7 +39,7 @@ use super::tones::Toned;
 use super::{proxy, PaintedView, Samples};
 use crate::error::Result;
 use crate::images::{components, neighbours8};
-use crate::factor::{Mapping, Settings};
+use crate::factor::{defaults, Mapping, Settings};
 
 /// Robust standard deviations a stray's miss exceeds.
 pub const SPREAD: f64 = 5.0;
@@ -49,6 +50,15 @@ pub const MAX_FRACTION: f64 = 0.1;
 /// The floor $\epsilon$ of the log ratio, as a fraction of the painting's brightest value: a
 /// shadow's small misses (a terminator a pixel off) are not strokes.
 pub const FLOOR: f64 = 0.1;
+/// The spread (robust standard deviation of the log ratios) beyond which the search's fit
+/// has collapsed rather than met strays, and is fitted again with the light prior
+/// ([`Settings::with_light_prior`], as a headlit painting's is). A white stroke in the
+/// shadow, at the terminator, drew the free fit's p(θ_l) up ×40 there and q(θ_h) down to
+/// 2e-10 at grazing: it missed the median sample by 0.43, nothing stood out, and no stray was
+/// found (brush seed 20, Blinn-Phong 8 and Ward: held out 0.40 and 0.57; with the prior
+/// 0.0097 and 0.024, as with the strays known). First fits of paintings with strays spread
+/// 0.03–0.14; the collapsed ones 0.42–0.64.
+pub const COLLAPSED: f64 = 0.3;
 /// How far (pixels) a stray grows into its neighbours: a brush's soft rim, not a region.
 const GROWTH: usize = 3;
 /// A neighbour joins a stray when the fit misses it by this fraction of the threshold.
@@ -147,20 +157,14 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
         }
         let headlit = samples.pattern.headlit();
         // As the fit has it: a headlit painting's light factor drawn to its physical shape.
-        let prepared = crate::factor::prepare(&samples.pattern, &settings.for_pattern(&samples.pattern))?;
-        let fit = prepared.solve(&samples.values, Mapping::Offset(None))?;
-        let predicted = prepared.predict(&fit.tables, &fit.map);
+        let search = settings.for_pattern(&samples.pattern);
         let peak = samples.values.iter().flatten().copied().fold(0.0, f64::max);
         let eps = FLOOR * peak.max(1e-12);
-        // Per sample: the largest per-channel log ratio, signed (positive: brighter than the fit).
-        let signed: Vec<f64> = samples
-            .values
-            .iter()
-            .zip(&predicted)
-            .map(|(y, f)| {
-                (0..3).map(|c| ((y[c].max(0.0) + eps) / (f[c].max(0.0) + eps)).ln()).fold(0.0, |m: f64, r| if r.abs() > m.abs() { r } else { m })
-            })
-            .collect();
+        let (mut predicted, mut signed, mut sigma) = search_fit(&samples, &search, eps)?;
+        // A collapsed fit ([`COLLAPSED`]) is searched again with the light prior.
+        if sigma > COLLAPSED && search.light_prior.is_none() {
+            (predicted, signed, sigma) = search_fit(&samples, &settings.with_light_prior(defaults::DAMP_HEADLIT, defaults::LIGHT_FLOOR), eps)?;
+        }
         let miss: Vec<f64> = signed.iter().map(|r| r.abs()).collect();
         // Only toned views read it ([`TONE_TAIL`]).
         let toned_views = intervals.iter().any(Option::is_some);
@@ -175,9 +179,6 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
                 }
             })
             .collect();
-        let mut sorted = miss.clone();
-        sorted.sort_by(f64::total_cmp);
-        let sigma = sorted[n / 2] / 0.6745;
         let threshold = (SPREAD * sigma).max(MIN_RATIO);
         // Per view: pixel → miss, then the strays and the neighbours they grow into.
         let mut strays: Vec<Vec<usize>> = vec![Vec::new(); views.len()];
@@ -253,6 +254,27 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
     }
     fill(views, &found)?;
     Ok(Some(Strays { per_view: found }))
+}
+
+/// The stray search's fit of `samples` under `settings` (offset mapping): its prediction,
+/// per sample the largest per-channel log ratio of value to fit, signed (positive: brighter
+/// than the fit; `eps` the floor, [`FLOOR`] of the brightest value), and the robust
+/// standard deviation of those ratios (from their median absolute value).
+fn search_fit(samples: &Samples, settings: &Settings, eps: f64) -> Result<(Vec<[f64; 3]>, Vec<f64>, f64)> {
+    let prepared = crate::factor::prepare(&samples.pattern, settings)?;
+    let fit = prepared.solve(&samples.values, Mapping::Offset(None))?;
+    let predicted = prepared.predict(&fit.tables, &fit.map);
+    let signed: Vec<f64> = samples
+        .values
+        .iter()
+        .zip(&predicted)
+        .map(|(y, f)| (0..3).map(|c| ((y[c].max(0.0) + eps) / (f[c].max(0.0) + eps)).ln()).fold(0.0, |m: f64, r| if r.abs() > m.abs() { r } else { m }))
+        .collect();
+    let mut sorted: Vec<f64> = signed.iter().map(|r| r.abs()).collect();
+    let mid = sorted.len() / 2;
+    let (_, median, _) = sorted.select_nth_unstable_by(mid, f64::total_cmp);
+    let sigma = *median / 0.6745;
+    Ok((predicted, signed, sigma))
 }
 
 /// How far `fit` (a sample's predicted values, per unit of `light`) lies outside the tone
