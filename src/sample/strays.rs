@@ -56,8 +56,9 @@ pub const FLOOR: f64 = 0.1;
 /// shadow, at the terminator, drew the free fit's p(θ_l) up ×40 there and q(θ_h) down to
 /// 2e-10 at grazing: it missed the median sample by 0.43, nothing stood out, and no stray was
 /// found (brush seed 20, Blinn-Phong 8 and Ward: held out 0.40 and 0.57; with the prior
-/// 0.0097 and 0.024, as with the strays known). First fits of paintings with strays spread
-/// 0.03–0.14; the collapsed ones 0.42–0.64.
+/// 0.0097 and 0.024, as with the strays known). The other models' first fits there spread
+/// 0.03–0.14, the collapsed ones 0.42–0.64, and no search over brush seeds 1–12 and 17–24
+/// (every fault) but seed 20's spread beyond 0.3.
 pub const COLLAPSED: f64 = 0.3;
 /// How far (pixels) a stray grows into its neighbours: a brush's soft rim, not a region.
 const GROWTH: usize = 3;
