@@ -676,8 +676,7 @@ impl BasedFit {
 pub fn solve_based(prepared: &Prepared, pattern: &Pattern, values: &[[f64; 3]], mapping: Mapping, choice: BaseChoice, one_view: bool) -> Result<BasedFit> {
     // Only `auto` judges the lobe against the free product, so only it needs that fit first.
     let plain = if choice == BaseChoice::Auto { Some(prepared.solve(values, mapping)?) } else { None };
-    let product = plain.as_ref().map_or(Roughness::default(), |fit| product_roughness(prepared, pattern, values, fit));
-    match choose(pattern, values, choice, product, one_view) {
+    match choose_over(prepared, pattern, values, plain.as_ref(), choice, one_view) {
         Some((base, weight)) => solve_on_base(prepared, pattern, values, mapping, &base, weight),
         None => Ok(BasedFit { base: None, fit: match plain { Some(fit) => fit, None => prepared.solve(values, mapping)? } }),
     }
@@ -700,6 +699,14 @@ pub fn product_roughness(prepared: &Prepared, pattern: &Pattern, values: &[[f64;
     let predicted = prepared.predict(&fit.tables, &fit.map);
     let misfit = misfit(values, &predicted);
     Roughness { misfit, texture: texture(pattern, values, &predicted, misfit) }
+}
+
+/// [`choose`] for `values`, judged under `auto` against `plain`, the free product's fit of
+/// them on `prepared` (its [`Roughness`]; read only under `auto`, the one choice that
+/// judges a lobe against the product).
+pub fn choose_over(prepared: &Prepared, pattern: &Pattern, values: &[[f64; 3]], plain: Option<&Fit>, choice: BaseChoice, one_view: bool) -> Option<(Base, f64)> {
+    let product = plain.filter(|_| choice == BaseChoice::Auto).map_or(Roughness::default(), |fit| product_roughness(prepared, pattern, values, fit));
+    choose(pattern, values, choice, product, one_view)
 }
 
 /// The lobe `choice` gives for `values` on `pattern`, and the weight of the product's

@@ -218,10 +218,8 @@ impl Material {
         one_view: bool,
         provenance: Provenance,
     ) -> Result<Option<Material>> {
-        use crate::factor::base::{choose, product_roughness, BaseChoice, Roughness};
-        let product = if choice == BaseChoice::Auto { product_roughness(prepared, pattern, values, plain) } else { Roughness::default() };
         // No lobe, no second solve: the plain fit stands.
-        let Some((base, weight)) = choose(pattern, values, choice, product, one_view) else {
+        let Some((base, weight)) = crate::factor::base::choose_over(prepared, pattern, values, Some(plain), choice, one_view) else {
             return Ok(None);
         };
         let fit = crate::factor::base::solve_on_base(prepared, pattern, values, mapping, &base, weight)?;
