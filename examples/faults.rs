@@ -4,6 +4,7 @@
 //! the clean truth; and light sweeps of materials painted lit from the front.
 //!
 //! `cargo run --release --example faults [-- SIZE] [--models] [--only CASE] [--read] [--base auto|none|ggx] [--seed N]`
+//! `cargo run --release --example faults -- --read --seeds 1-12 [--faults blnst] [--preset front] [--models]`
 //!
 //! `--seed N` draws the faults (brush strokes, strays, noise) from seed N instead of the
 //! study's 11.
@@ -95,6 +96,57 @@ fn main() -> brdfpaint::Result<()> {
         solvers.extend(ablate.iter().map(|(n, f)| (*n, &**f as faults::Solve<'_>)));
     }
     println!("{size}x{size} paintings of {} models, one view (front-left), held-out relative RMS against the clean truth", models.len());
+    // `--seeds A-B [--faults blnst]`: the least-squares fit over brush seeds A..=B, the mean of
+    // each seed's median; `--faults` picks the faults by letter (brush, light 10° off, noise,
+    // strays, tones) instead of `--only`'s named cases.
+    if let Some(range) = args.iter().position(|a| a == "--seeds").and_then(|i| args.get(i + 1)) {
+        let (a, b) = range.split_once('-').map_or((range.as_str(), range.as_str()), |(a, b)| (a, b));
+        let seeds: Vec<u64> = (a.parse().expect("--seeds A-B")..=b.parse().expect("--seeds A-B")).collect();
+        let mut cases: Vec<(String, Faults)> = Faults::cases().into_iter().filter(|(c, _)| only.as_deref().is_none_or(|o| o == *c)).map(|(c, f)| (c.to_string(), f)).collect();
+        if let Some(letters) = args.iter().position(|a| a == "--faults").and_then(|i| args.get(i + 1)) {
+            let all = Faults::all();
+            let has = |c: char| letters.contains(c);
+            let f = Faults {
+                brush: if has('b') { all.brush } else { 0.0 },
+                light_off_deg: if has('l') { all.light_off_deg } else { 0.0 },
+                noise: if has('n') { all.noise } else { 0.0 },
+                strays: if has('s') { all.strays } else { 0 },
+                levels: if has('t') { all.levels } else { 0 },
+                ..all
+            };
+            cases = vec![(letters.clone(), f)];
+        }
+        for (case, f) in cases {
+            let mut medians = Vec::new();
+            let mut by_model: Vec<Vec<f64>> = vec![Vec::new(); models.len()];
+            let mut worst: f64 = 0.0;
+            for &seed in &seeds {
+                let f = Faults { seed, ..f.clone() };
+                let at = match args.iter().position(|a| a == "--preset").and_then(|i| args.get(i + 1)) {
+                    Some(name) => preset(name)?,
+                    None => painted_presets(1)[0],
+                };
+                let painted = [FaultyView::new(&mut sampler, &at, size, f.light_off_deg)?];
+                let rows = faults::measure(&painted, &held, &models, &settings, &f, &plain, register, base_choice)?;
+                let m = median(&rows.iter().map(|r| r.held_out).collect::<Vec<_>>());
+                println!("{case:<14} seed {seed:<3} {}", summary(&rows));
+                if per_model {
+                    println!("    {}", rows.iter().map(|r| format!("{:.3}", r.held_out)).collect::<Vec<_>>().join(" "));
+                }
+                for (k, r) in rows.iter().enumerate() {
+                    by_model[k].push(r.held_out);
+                    worst = worst.max(r.worst_view);
+                }
+                medians.push(m);
+            }
+            let mean = |x: &[f64]| x.iter().sum::<f64>() / x.len().max(1) as f64;
+            println!("{case:<14} seeds {range}: mean median {:.4}, worst view {worst:.3}", mean(&medians));
+            for (m, x) in models.iter().zip(&by_model) {
+                println!("    {:<16} mean held-out {:.4}", m.name(), mean(x));
+            }
+        }
+        return Ok(());
+    }
     for (case, f) in Faults::cases() {
         if only.as_deref().is_some_and(|o| o != case) {
             continue;

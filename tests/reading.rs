@@ -288,9 +288,12 @@ fn a_highlight_in_flat_tones_is_not_a_stray() {
 /// ratio's floor: it is found through its tone, the fit lying outside the painted tone's
 /// interval (`strays::TONE_TAIL`). Judged on the pixels the strokes put in another tone (the
 /// painting with and without them, posterized alike), every fault but the light at 256²
-/// (seed 11), summed over the nine models: the search misses 760 of the 7540 (1145 by the log
-/// ratio alone), and repaints 3939 others, mostly the strokes' soft rims posterized to the
-/// tone under them (3673).
+/// (seed 11), summed over the nine models: the search misses 420 of the 7540 (1145 by the log
+/// ratio alone), and takes 7390 others (3673), mostly the strokes' soft rims posterized to
+/// the tone under them, which a toned view's strays widen into (`strays::TONED_RIM`): in flat
+/// tones they are left out, where pixels taken too cost nothing and pixels missed cost
+/// most (BENCHMARKS.md, "Strokes in flat tones"). Before that widening, 760 missed and 3939
+/// others.
 #[test]
 fn strokes_one_tone_off_are_found_through_their_tones() {
     let mut sampler = SceneSampler::new().unwrap();
@@ -316,8 +319,9 @@ fn strokes_one_tone_off_are_found_through_their_tones() {
         (visible, hits, base, false_hits, base_false) = (visible + stroked.len(), hits + h, base + b, false_hits + fh, base_false + fb);
     }
     eprintln!("all: {visible} stroked, through the tones {hits} found ({false_hits} others), by the ratio alone {base} ({base_false})");
-    assert!(((visible - hits) as f64) < 0.75 * (visible - base) as f64, "missed {} against {}", visible - hits, visible - base);
-    assert!((false_hits as f64) < 1.15 * base_false as f64, "{false_hits} others against {base_false}");
+    assert!(((visible - hits) as f64) < 0.5 * (visible - base) as f64, "missed {} against {}", visible - hits, visible - base);
+    // Rims, not regions: at most about one pixel round each stroke more.
+    assert!((false_hits as f64) < 2.5 * base_false as f64, "{false_hits} others against {base_false}");
 }
 
 /// GGX 0.2 in flat tones with every fault. At brush seed 5 the proxy search finds the
@@ -329,7 +333,9 @@ fn strokes_one_tone_off_are_found_through_their_tones() {
 /// seed 4 the search goes 20° the wrong way in both passes; the turn toward the light that
 /// puts the brightest tone at the mirror point is judged on the tones instead. Taken, the
 /// highlight sits where it was painted: held-out error 0.835 → 0.321 (seed 4), 0.852 →
-/// 0.232 (5) and 0.996 → 0.460 (6).
+/// 0.232 (5) and 0.996 → 0.460 (6). Since a toned painting's strays are left out and it is
+/// read again (`pipeline::read`), the factored fit sees the 8° turn itself at seeds 4 and 5
+/// (0.134 and 0.183); at seed 6 the second reading explains nothing and the first is kept.
 #[test]
 fn a_toned_paintings_light_is_taken_from_its_tones_when_the_fit_cannot_tell() {
     let mut sampler = SceneSampler::new().unwrap();
@@ -340,8 +346,11 @@ fn a_toned_paintings_light_is_taken_from_its_tones_when_the_fit_cannot_tell() {
         let model = faults::suite().into_iter().find(|m| m.name() == "ggx-0.2").unwrap();
         let mut views = vec![faults::paint(&painted, &model, &f).unwrap()];
         let notes = pipeline::read(&mut views, &[&painted.view.gbuffer], &Reading::default()).unwrap();
-        let turn = notes.iter().find(|n| n.contains("tones look lit")).unwrap_or_else(|| panic!("seed {seed}: {notes:#?}"));
-        let degrees: f64 = turn.split("look lit ").nth(1).and_then(|r| r.split('°').next()).and_then(|d| d.parse().ok()).unwrap();
+        // Judged on the tones, or, once a toned painting's strays are left out and it is read
+        // again (`pipeline::read`), on the factored fit, which then sees the turn itself (seed
+        // 4: 0.249 → 0.078 with the light turned 8°).
+        let turn = notes.iter().find(|n| n.contains(" lit ") && n.contains("° away")).unwrap_or_else(|| panic!("seed {seed}: {notes:#?}"));
+        let degrees: f64 = turn.split(" lit ").nth(1).and_then(|r| r.split('°').next()).and_then(|d| d.parse().ok()).unwrap();
         assert!((6.0..=10.0).contains(&degrees), "seed {seed}: {turn}");
         let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
         let rows = faults::measure(&[painted], &held, &[model], &Settings::default(), &f, &plain, Reading::default(), brdfpaint::factor::base::BaseChoice::Auto).unwrap();

@@ -134,8 +134,12 @@ pub struct Geometry {
     /// Row by row, row 0 at the top: the geometry where the pixel centre sees a
     /// front-facing surface ($v_z > 0$); `None` for background and back-facing pixels.
     pub pixels: Vec<Option<PixelGeometry>>,
-    /// Pixels that may be samples: they see the object and survive the erosion.
+    /// Pixels that may be samples: they see the object and survive the erosion, and were
+    /// not left out while the painting was read.
     pub usable: Vec<bool>,
+    /// How many of the pixels that survive the erosion were left out while the painting was
+    /// read (stray strokes in flat tones: [`crate::pipeline::read`]).
+    pub left_out: usize,
     /// Whether the queries carry meaningful texture coordinates.
     pub has_uv: bool,
 }

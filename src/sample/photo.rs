@@ -188,7 +188,7 @@ impl Photo {
         let surface: Vec<bool> = self.normals.normals.iter().map(Option::is_some).collect();
         let kept = erosion.apply(&surface, w, h);
         let usable = pixels.iter().zip(&kept).map(|(p, &k)| k && p.is_some()).collect();
-        Ok(Geometry { width: w, height: h, pixels, usable, has_uv: true })
+        Ok(Geometry { width: w, height: h, pixels, usable, left_out: 0, has_uv: true })
     }
 
     /// One light's image as a view: the image must have the normal map's size.

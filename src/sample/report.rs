@@ -229,7 +229,7 @@ mod tests {
         let px = PixelGeometry { query: Query::at(DVec3::Z, DVec3::Z), position: None, light: [1.0; 3] };
         let pixels = (0..w * w).map(|k| (k % w < w / 2).then_some(px)).collect();
         let usable = (0..w * w).map(|k| k % w < w / 2 && k % w > 0).collect();
-        let geometry = Geometry { width: w, height: w, pixels, usable, has_uv: false };
+        let geometry = Geometry { width: w, height: w, pixels, usable, left_out: 0, has_uv: false };
         let mut painting = Painting::opaque(w, w, vec![[value; 3]; w * w]).unwrap();
         painting.alpha[..w].fill(0.0);
         PaintedView { name: "paintings/p.png".into(), source: "sheet/scene.gltf".into(), geometry, painting }

@@ -146,7 +146,7 @@ pub fn geometry_from_gbuffer(g: &GBuffer, light: &Light, has_uv: bool, erosion: 
     let coverage: Vec<bool> = g.pixels.iter().map(|p| p.hit).collect();
     let kept = erosion.apply(&coverage, g.width, g.height);
     let usable = pixels.iter().zip(&kept).map(|(p, &k)| k && p.is_some()).collect();
-    Ok(Geometry { width: g.width, height: g.height, pixels, usable, has_uv })
+    Ok(Geometry { width: g.width, height: g.height, pixels, usable, left_out: 0, has_uv })
 }
 
 /// The aspect (width / height) a camera was made for, if it says: a perspective camera's

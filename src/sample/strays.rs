@@ -33,7 +33,10 @@
 //! level off the shading under it hides in the log ratio behind the steps' own error. So in a
 //! toned view that has strays, a sample is one too when the fit lies outside its tone's
 //! interval by more than [`TONE_TAIL`] times the view's 99th percentile of that distance
-//! (in the interval's widths, at least [`MIN_OFF_TONE`]; [`off_tone`]).
+//! (in the interval's widths, at least [`MIN_OFF_TONE`]; [`off_tone`]). A toned stroke's rim
+//! is one tone off, under both tests, so a toned view's strays widen by [`TONED_RIM`]; and
+//! they are then left out, not repainted, and the painting read again without them
+//! ([`crate::pipeline::read`]).
 
 use super::tones::Toned;
 use super::{proxy, PaintedView, Samples};
@@ -62,6 +65,18 @@ pub const FLOOR: f64 = 0.1;
 pub const COLLAPSED: f64 = 0.3;
 /// How far (pixels) a stray grows into its neighbours: a brush's soft rim, not a region.
 const GROWTH: usize = 3;
+/// How far (pixels) a toned view's strays widen beyond their growth, whatever the fit
+/// misses there. Posterized, a stroke's soft rim (the stroke blended with the shading under
+/// it) lands one tone off the shading, a miss under both tests that the steps' own error
+/// hides: after the search, 6 flat tones with eight strokes (seed 1) kept 50–120 stroke
+/// pixels of a thousand, nearly all one pixel from a found stray. Those few pixels cost most
+/// of what strays cost a toned painting: held out with the found strays and the strokes known
+/// 0.0174, with only the found ones 0.0659 (nine models' median, seeds 1–4; strays alone
+/// 0.0048, tones alone 0.026). Not about the mirror point ([`HIGHLIGHT_DEG`]): widened into a
+/// sharp highlight's few pixels, a stroke beside it takes the material's highlight away.
+/// Two pixels: every fault, seeds 1–24, 0.0487 against one's 0.0477 (BENCHMARKS.md,
+/// "Strokes in flat tones").
+const TONED_RIM: usize = 1;
 /// A neighbour joins a stray when the fit misses it by this fraction of the threshold.
 const RIM: f64 = 0.5;
 /// The smallest stroke, as a fraction of a view's samples, and in pixels: the second is the
@@ -100,11 +115,16 @@ const HIGHLIGHT_DEG: f64 = super::register::RADIUS_DEG / 2.0;
 /// A pixel's tone: per channel, the linear interval its true value lies in.
 type Bounds = [[f64; 2]; 3];
 
-/// What was repainted.
+/// The strays found.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Strays {
-    /// The pixels repainted, per view.
+    /// Their pixels, per view.
     pub per_view: Vec<Vec<usize>>,
+    /// Whether some view is in flat tones (its strays are then left out, and the painting
+    /// read again without them: [`crate::pipeline::read`]).
+    pub toned: bool,
+    /// Whether they were left out rather than repainted.
+    pub left_out: bool,
 }
 
 impl Strays {
@@ -116,8 +136,9 @@ impl Strays {
             .filter(|(_, p)| !p.is_empty())
             .map(|(v, p)| {
                 let n = p.len();
+                let done = if self.left_out { "left out, and the painting read again without them" } else { "repainted with the shading around them" };
                 format!(
-                    "{}: {n} painted pixels read as stray strokes (the fit misses them far more than the rest) and repainted with the shading around them (--keep-strokes fits them as painted)",
+                    "{}: {n} painted pixels read as stray strokes (the fit misses them far more than the rest) and {done} (--keep-strokes fits them as painted)",
                     v.name
                 )
             })
@@ -230,6 +251,9 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
             }
             keep_strokes(&mut stray, least, outline, &at, &brighter, &theta_h, w);
             grow(&mut stray, &at, w, RIM * threshold);
+            if intervals[v].is_some() {
+                widen(&mut stray, &theta_h, w);
+            }
             strays[v] = (0..w * h).filter(|&k| stray[k]).collect();
         }
         let total: usize = strays.iter().map(Vec::len).sum();
@@ -254,7 +278,7 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
         return Ok(None);
     }
     fill(views, &found)?;
-    Ok(Some(Strays { per_view: found }))
+    Ok(Some(Strays { per_view: found, toned: intervals.iter().any(Option::is_some), left_out: false }))
 }
 
 /// The stray search's fit of `samples` under `settings` (offset mapping): its prediction,
@@ -351,6 +375,23 @@ fn grow(stray: &mut [bool], at: &[f64], w: usize, rim: f64) {
             }
         }
         frontier = next;
+    }
+}
+
+/// Widens `stray` (a mask `w` to a row) [`TONED_RIM`] pixels into its 8-neighbours that are
+/// samples (`theta_h` finite), but not within [`HIGHLIGHT_DEG`] of the mirror point: a
+/// toned stroke's rim.
+fn widen(stray: &mut [bool], theta_h: &[f64], w: usize) {
+    let mirror = mirror_point(theta_h);
+    for _ in 0..TONED_RIM {
+        let rim: Vec<usize> = (0..stray.len())
+            .filter(|&k| stray[k])
+            .flat_map(|k| neighbours8(k, w, stray.len()))
+            .filter(|&m| theta_h[m] > mirror + HIGHLIGHT_DEG)
+            .collect();
+        for m in rim {
+            stray[m] = true;
+        }
     }
 }
 
