@@ -75,7 +75,8 @@ const GROWTH: usize = 3;
 /// 0.0048, tones alone 0.026). Not about the mirror point ([`HIGHLIGHT_DEG`]): widened into a
 /// sharp highlight's few pixels, a stroke beside it takes the material's highlight away.
 /// Two pixels: every fault, seeds 1–24, 0.0487 against one's 0.0477 (BENCHMARKS.md,
-/// "Strokes in flat tones").
+/// "Strokes in flat tones"). Not under a headlight, where strays are not left out
+/// ([`crate::pipeline::read`]).
 const TONED_RIM: usize = 1;
 /// A neighbour joins a stray when the fit misses it by this fraction of the threshold.
 const RIM: f64 = 0.5;
@@ -120,8 +121,8 @@ type Bounds = [[f64; 2]; 3];
 pub struct Strays {
     /// Their pixels, per view.
     pub per_view: Vec<Vec<usize>>,
-    /// Whether some view is in flat tones (its strays are then left out, and the painting
-    /// read again without them: [`crate::pipeline::read`]).
+    /// Whether some view is in flat tones and not headlit (its strays are then left out, and
+    /// the painting read again without them: [`crate::pipeline::read`]).
     pub toned: bool,
     /// Whether they were left out rather than repainted.
     pub left_out: bool,
@@ -171,6 +172,7 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
         })
         .collect();
     let mut found: Vec<Vec<usize>> = vec![Vec::new(); views.len()];
+    let mut lit_aside = true;
     for _ in 0..PASSES {
         let samples = Samples::gather(views)?;
         let n = samples.len();
@@ -178,6 +180,7 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
             break;
         }
         let headlit = samples.pattern.headlit();
+        lit_aside &= !headlit;
         // As the fit has it: a headlit painting's light factor drawn to its physical shape.
         let search = settings.for_pattern(&samples.pattern);
         let peak = samples.values.iter().flatten().copied().fold(0.0, f64::max);
@@ -251,7 +254,7 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
             }
             keep_strokes(&mut stray, least, outline, &at, &brighter, &theta_h, w);
             grow(&mut stray, &at, w, RIM * threshold);
-            if intervals[v].is_some() {
+            if intervals[v].is_some() && !headlit {
                 widen(&mut stray, &theta_h, w);
             }
             strays[v] = (0..w * h).filter(|&k| stray[k]).collect();
@@ -278,7 +281,7 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
         return Ok(None);
     }
     fill(views, &found)?;
-    Ok(Some(Strays { per_view: found, toned: intervals.iter().any(Option::is_some), left_out: false }))
+    Ok(Some(Strays { per_view: found, toned: lit_aside && intervals.iter().any(Option::is_some), left_out: false }))
 }
 
 /// The stray search's fit of `samples` under `settings` (offset mapping): its prediction,
