@@ -169,7 +169,8 @@ impl Default for Reading {
 /// brush seeds 1–12) and 0.0481 → 0.0448 (seeds 13–24), GGX 0.2 0.285 → 0.146, Oren-Nayar
 /// 0.037 → 0.018 ([`strays`]' `TONED_RIM` with it; BENCHMARKS.md, "Strokes in flat
 /// tones"). Left out rather than repainted: the proxy's paint is Lambertian where the
-/// material is not (Oren-Nayar 0.041 repainted, 0.019 left out, every fault, seeds 1–12, a rim of two pixels).
+/// material is not (Oren-Nayar 0.041 repainted, 0.019 left out, every fault, seeds 1–12,
+/// a rim of two pixels).
 /// Not under a headlight, where the light factor has only the painting's one angle to go
 /// by and the holes let it stay up as the light goes behind: a headlit Minnaert sphere with
 /// every fault (seed 11) swept to 0.60 of its brightest frame, against 0.24 repainted.
@@ -181,9 +182,10 @@ pub fn read(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading)
     if !strays.toned {
         return Ok(first_notes);
     }
-    // The first reading, kept if the second explains nothing.
-    let first: Vec<PaintedView> = views.to_vec();
-    views.clone_from_slice(&given);
+    // The views as given go back in; `given` keeps the first reading, restored if the
+    // second explains nothing.
+    let mut first = given;
+    views.swap_with_slice(&mut first);
     for (view, pixels) in views.iter_mut().zip(&strays.per_view) {
         for &k in pixels {
             if std::mem::replace(&mut view.geometry.usable[k], false) {
@@ -195,7 +197,7 @@ pub fn read(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading)
     // A second reading the factored fit cannot explain at all (it misses by more than the
     // painting's own values, [`UNEXPLAINED_FIT`]) is not kept.
     if turns.iter().any(|t| !t.by_tones && t.after > UNEXPLAINED_FIT) {
-        views.clone_from_slice(&first);
+        views.swap_with_slice(&mut first);
         return Ok(first_notes);
     }
     strays.left_out = true;
@@ -247,12 +249,12 @@ fn read_once(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading
         let tones_of: Vec<Option<&tones::Toned>> = (0..views.len()).map(|v| toned.iter().find(|(i, _)| *i == v).map(|(_, t)| t)).collect();
         if let Some(found) = strays::repaint(views, &Settings::default(), &tones_of)? {
             notes.extend(found.describe(views));
-            repainted = Some(found.clone());
             // A repainted stray's tone interval is the stroke's, not the shading's.
             for (i, t) in toned.iter_mut() {
-                let repainted: std::collections::HashSet<usize> = found.per_view[*i].iter().copied().collect();
-                t.bounds.retain(|(k, _)| !repainted.contains(k));
+                let stray: std::collections::HashSet<usize> = found.per_view[*i].iter().copied().collect();
+                t.bounds.retain(|(k, _)| !stray.contains(k));
             }
+            repainted = Some(found);
             // Without the strays the painter's light may show more clearly: searched again
             // (about the scene's light), a view keeps its first turn unless the new one
             // explains it better.

@@ -38,6 +38,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use glam::DVec3;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::mapping::Mapping;
@@ -359,7 +360,15 @@ impl Base {
             return None;
         }
         let (_, delta) = softening(values)?;
-        let best = |ambient: bool| Lobe::ALL.iter().filter_map(|&lobe| Base::fit_with(pattern, values, delta, lobe, ambient)).min_by(|a, b| a.1.total_cmp(&b.1));
+        // The families on their own threads; the least misfit wins, the first of equals.
+        let best = |ambient: bool| {
+            Lobe::ALL
+                .par_iter()
+                .enumerate()
+                .filter_map(|(n, &lobe)| Base::fit_with(pattern, values, delta, lobe, ambient).map(|fit| (n, fit)))
+                .min_by(|a, b| a.1 .1.total_cmp(&b.1 .1).then(a.0.cmp(&b.0)))
+                .map(|(_, fit)| fit)
+        };
         let lit = best(true)?;
         if !pattern.headlit() {
             return Some(lit);

@@ -250,9 +250,10 @@ fn proxy(samples: impl Iterator<Item = (DVec3, DVec3, f64)> + Clone, floor: f64)
             sy += h * (y * w).powi(2);
         }
         score = (se / sy.max(1e-300)).sqrt();
-        let mut sorted = residual.clone();
-        sorted.sort_by(f64::total_cmp);
-        let spread = 2.0 * 1.4826 * sorted[sorted.len() / 2];
+        // The median by selection (the same element a sort would put there, in linear time).
+        let mut scratch = residual.clone();
+        let half = scratch.len() / 2;
+        let spread = 2.0 * 1.4826 * *scratch.select_nth_unstable_by(half, f64::total_cmp).1;
         for (h, r) in huber.iter_mut().zip(&residual) {
             *h = if *r > spread && spread > 0.0 { spread / r } else { 1.0 };
         }

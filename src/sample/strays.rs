@@ -239,9 +239,9 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
             };
             if count > 0 && intervals[v].is_some() && has_strays() {
                 let range = offset - count..offset;
-                let mut sorted = off[range.clone()].to_vec();
-                sorted.sort_by(f64::total_cmp);
-                let limit = (TONE_TAIL * sorted[count * 99 / 100]).max(MIN_OFF_TONE);
+                let mut scratch = off[range.clone()].to_vec();
+                let p99 = *scratch.select_nth_unstable_by(count * 99 / 100, f64::total_cmp).1;
+                let limit = (TONE_TAIL * p99).max(MIN_OFF_TONE);
                 // Not about the view's mirror point, where a highlight a few degrees off the
                 // fit's is a tone or two off on both sides ([`keep_strokes`]).
                 let mirror = mirror_point(&theta_h);
