@@ -54,6 +54,26 @@ fn the_painters_light_is_found_within_two_degrees() {
     }
 }
 
+/// Minnaert and Oren-Nayar paintings shade their limbs by the view as well as the light,
+/// which the proxy cannot: its light alone was 0.7–1.5° off, and the held-out error many
+/// times a Lambertian painting's. Refined under the lobe family that holds them
+/// (`register`'s `refine_on_lobe`), they are found as closely as the others.
+#[test]
+fn a_limb_shaded_paintings_light_is_found_closer_than_by_the_proxy() {
+    let mut sampler = SceneSampler::new().unwrap();
+    let view = FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, 10.0).unwrap();
+    let (painter, scene) = (light_of(&view.shading), light_of(&view.view));
+    for model in faults::suite().into_iter().filter(|m| m.name().starts_with("minnaert") || m.name().starts_with("oren-nayar")) {
+        let mut views = vec![faults::paint(&view, &model, &Faults::misregistered()).unwrap()];
+        let turns = register::register(&mut views, &[&view.view.gbuffer], &Settings::default()).unwrap();
+        let error = (turns[0].rotation * scene).angle_between(painter).to_degrees();
+        eprintln!("{}: turned {:.2}°, {:.2}° from the painter's light", model.name(), turns[0].degrees, error);
+        // Measured at 128²: Oren-Nayar 0.68° → 0.10°, Minnaert 1.48° → 0.53°.
+        let bound = if model.name().starts_with("minnaert") { 0.65 } else { 0.3 };
+        assert!(error < bound, "{}: {error}° from the painter's light", model.name());
+    }
+}
+
 #[test]
 fn a_consistent_painting_keeps_its_light() {
     let mut sampler = SceneSampler::new().unwrap();

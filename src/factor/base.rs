@@ -388,6 +388,20 @@ impl Base {
         Base::fit_with(pattern, values, delta, lobe, true)
     }
 
+    /// The misfit (as [`Base::fit`] reports it) of the lobe of family `lobe` and width
+    /// `alpha` with an ambient, its weights fitted to every sample: the width held, so that
+    /// the directions' fit alone is compared ([`crate::sample::register`] turns the light
+    /// under it).
+    pub fn misfit_of(pattern: &Pattern, values: &[[f64; 3]], lobe: Lobe, alpha: f64) -> Option<f64> {
+        if values.len() != pattern.len() {
+            return None;
+        }
+        let (_, delta) = softening(values)?;
+        let all: Vec<usize> = (0..pattern.len()).collect();
+        let (res, _, penalty) = linear_fit(pattern, values, &all, delta, lobe, alpha, true);
+        Some(((res - penalty).max(0.0) / weighted_energy(values, &all, delta).max(f64::MIN_POSITIVE)).sqrt())
+    }
+
     /// [`Base::fit_lobe`] with or without an ambient.
     fn fit_with(pattern: &Pattern, values: &[[f64; 3]], delta: [f64; 3], lobe: Lobe, ambient: bool) -> Option<(Base, f64)> {
         let alpha = if lobe.has_width() { Base::search_width(pattern, values, delta, lobe, ambient)? } else { 1.0 };
