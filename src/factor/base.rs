@@ -388,23 +388,24 @@ impl Base {
         Base::fit_with(pattern, values, delta, lobe, true)
     }
 
-    /// The misfit (as [`Base::fit`] reports it) of the lobe of family `lobe` and width
-    /// `alpha` with an ambient, its weights fitted to every sample: the width held, so that
-    /// the directions' fit alone is compared ([`crate::sample::register`] turns the light
-    /// under it).
-    pub fn misfit_of(pattern: &Pattern, values: &[[f64; 3]], lobe: Lobe, alpha: f64) -> Option<f64> {
+    /// [`Base::fit_lobe`] with the width given: `alpha` held, so that only the directions'
+    /// fit is compared ([`crate::sample::register`] turns the light under it).
+    pub fn fit_lobe_at(pattern: &Pattern, values: &[[f64; 3]], lobe: Lobe, alpha: f64) -> Option<(Base, f64)> {
         if values.len() != pattern.len() {
             return None;
         }
         let (_, delta) = softening(values)?;
-        let all: Vec<usize> = (0..pattern.len()).collect();
-        let (res, _, penalty) = linear_fit(pattern, values, &all, delta, lobe, alpha, true);
-        Some(((res - penalty).max(0.0) / weighted_energy(values, &all, delta).max(f64::MIN_POSITIVE)).sqrt())
+        Some(Base::fit_at(pattern, values, delta, lobe, alpha, true))
     }
 
     /// [`Base::fit_lobe`] with or without an ambient.
     fn fit_with(pattern: &Pattern, values: &[[f64; 3]], delta: [f64; 3], lobe: Lobe, ambient: bool) -> Option<(Base, f64)> {
         let alpha = if lobe.has_width() { Base::search_width(pattern, values, delta, lobe, ambient)? } else { 1.0 };
+        Some(Base::fit_at(pattern, values, delta, lobe, alpha, ambient))
+    }
+
+    /// The lobe of family `lobe` and width `alpha`, its colours fitted, and its misfit.
+    fn fit_at(pattern: &Pattern, values: &[[f64; 3]], delta: [f64; 3], lobe: Lobe, alpha: f64, ambient: bool) -> (Base, f64) {
         // The colours from every sample up to [`FIT_SAMPLES`] (every k-th beyond).
         let fitted = fitted_samples(pattern.len());
         let (res, k, penalty) = linear_fit(pattern, values, &fitted, delta, lobe, alpha, ambient);
@@ -413,7 +414,7 @@ impl Base {
         // (the data's part of the objective; the ridge's penalty is no misfit).
         let misfit = (res / weighted_energy(values, &fitted, delta).max(f64::MIN_POSITIVE)).sqrt();
         let ambient = k.map(|x| x[0]);
-        Some((Base { ambient, diffuse: k.map(|x| x[1]), specular: k.map(|x| x[2]), fresnel: k.map(|x| x[3]), alpha, lobe }, misfit))
+        (Base { ambient, diffuse: k.map(|x| x[1]), specular: k.map(|x| x[2]), fresnel: k.map(|x| x[3]), alpha, lobe }, misfit)
     }
 
     /// The width of `lobe` that fits `values` best: a log grid of [`ALPHAS`] on every k-th

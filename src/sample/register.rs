@@ -289,23 +289,22 @@ fn proxy(samples: impl Iterator<Item = (DVec3, DVec3, f64)> + Clone, floor: f64)
 /// where the family's misfit is at most [`REFINE_GATE`] times the proxy's (a Gooch
 /// painting's cool side is in no family, and a lobe moved it 2° for nothing), and not under
 /// a headlight, where the lobes hold the painting's one angle under any light.
-fn refine_on_lobe(search: &Search, (a, b): (f64, f64), rotation: &(impl Fn(f64, f64) -> DQuat + Sync)) -> (f64, f64) {
+fn refine_on_lobe(search: &Search, (a, b, score): (f64, f64, f64), rotation: &(impl Fn(f64, f64) -> DQuat + Sync)) -> (f64, f64) {
     let (pattern, values) = search.luminance(rotation(a, b));
     if pattern.headlit() {
         return (a, b);
     }
     let Some((mut base, misfit)) = Base::fit_any(&pattern, &values) else { return (a, b) };
-    if misfit > REFINE_GATE * search.score(rotation(a, b)) {
+    if misfit > REFINE_GATE * score {
         return (a, b);
     }
     let mut best = (a, b, misfit);
     for _ in 0..REFINE_PASSES {
         let misfit = |x: f64, y: f64| {
             let (pattern, values) = search.luminance(rotation(x, y));
-            Base::misfit_of(&pattern, &values, base.lobe, base.alpha).unwrap_or(f64::INFINITY)
+            Base::fit_lobe_at(&pattern, &values, base.lobe, base.alpha).map_or(f64::INFINITY, |(_, m)| m)
         };
         let start = best;
-        best.2 = misfit(best.0, best.1);
         let mut step = REFINE_STEP_DEG;
         for _ in 0..REFINE_ROUNDS {
             let candidates: Vec<(f64, f64)> = [-1.0, 0.0, 1.0]
@@ -336,7 +335,7 @@ fn refine_on_lobe(search: &Search, (a, b): (f64, f64), rotation: &(impl Fn(f64, 
         // six times as much).
         let (pattern, values) = search.luminance(rotation(best.0, best.1));
         match Base::fit_lobe(&pattern, &values, base.lobe) {
-            Some((again, _)) if again.alpha != base.alpha => base = again,
+            Some((again, misfit)) if again.alpha != base.alpha => (base, best.2) = (again, misfit),
             _ => break,
         }
     }
@@ -350,7 +349,8 @@ const REFINE_STEP_DEG: f64 = 1.0;
 const REFINE_ROUNDS: usize = 16;
 const REFINE_PASSES: usize = 3;
 /// [`refine_on_lobe`] refines only where the lobe's misfit is at most this many times the
-/// proxy's (their measures alike: relative, softened by 5% of the brightest value).
+/// proxy's score at the proxy's light (their measures alike: relative, softened by 5% of
+/// the brightest value).
 const REFINE_GATE: f64 = 2.0;
 
 /// Registers each view's light (one pass over the views, each searched with the others as
@@ -407,7 +407,7 @@ pub fn register(views: &mut [PaintedView], gbuffers: &[&GBuffer], settings: &Set
         // A light the proxy would not turn is not refined: the scene's light kept costs
         // nothing more.
         let best = match best.0.hypot(best.1) >= MIN_TURN_DEG {
-            true => refine_on_lobe(&search, (best.0, best.1), &rotation),
+            true => refine_on_lobe(&search, best, &rotation),
             false => (best.0, best.1),
         };
         let degrees = best.0.hypot(best.1);
