@@ -509,16 +509,22 @@ impl Fitted {
         Ok(staged)
     }
 
-    /// Writes the material and its `report.png` into `out`; the report's path.
-    pub fn save(&self, views: &[PaintedView], out: &Path) -> Result<PathBuf> {
-        self.stage(views, out)?.commit()?;
+    /// Writes the material and its `report.png` into `out`, keeping the run's `inputs` there
+    /// ([`StagedDir::keep_inputs`]); the report's path.
+    pub fn save(&self, views: &[PaintedView], out: &Path, inputs: &[&Path]) -> Result<PathBuf> {
+        let mut staged = self.stage(views, out)?;
+        staged.keep_inputs(inputs.iter().copied());
+        staged.commit()?;
         Ok(out.join("report.png"))
     }
 }
 
-/// Saves a material, naming `out` in errors that do not name a file themselves.
-pub fn save_material(material: &Material, out: &Path) -> Result<()> {
-    stage_material(material, out)?.commit()
+/// Saves a material, keeping the run's `inputs` in `out` and naming `out` in errors that do
+/// not name a file themselves.
+pub fn save_material(material: &Material, out: &Path, inputs: &[&Path]) -> Result<()> {
+    let mut staged = stage_material(material, out)?;
+    staged.keep_inputs(inputs.iter().copied());
+    staged.commit()
 }
 
 /// A material staged for `out` ([`Material::stage`]).

@@ -225,7 +225,7 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
         pipeline::provenance(vec![merl_path.display().to_string()], Some(fit.errors), pattern.len(), prepared.prepare_s, solve_s);
     let plain = Material::from_fit(settings, &fit, provenance.clone())?;
     let material = Material::fit_based(&prepared, &pattern, &values, &fit, settings, args.mapping, args.base, false, provenance)?.unwrap_or(plain);
-    pipeline::save_material(&material, &args.out)?;
+    pipeline::save_material(&material, &args.out, &[merl_path])?;
     println!(
         "{} samples, {} unknowns: prepare {:.1} ms ({}), solve {:.2} ms",
         pattern.len(),
@@ -290,8 +290,9 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
     }
     let views = std::slice::from_ref(&lit.view);
     // The scene goes into the material directory with it, in one commit.
-    let staged = fitted.stage(views, &args.out)?;
+    let mut staged = fitted.stage(views, &args.out)?;
     staged.write("scene.gltf", |p| lit.scene.write_gltf(p))?;
+    staged.keep_inputs([image]);
     staged.commit()?;
     let (report_path, scene_path) = (args.out.join("report.png"), args.out.join("scene.gltf"));
     let e = fitted.errors();
@@ -363,7 +364,8 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
         println!("{note}");
     }
     let per_view = fitted.view_errors(&views);
-    let report_path = fitted.save(&views, &args.out)?;
+    let inputs: Vec<&Path> = args.scene.iter().chain(&args.image).map(PathBuf::as_path).collect();
+    let report_path = fitted.save(&views, &args.out, &inputs)?;
 
     for (k, (view, e)) in views.iter().zip(&per_view).enumerate() {
         println!(
