@@ -6,19 +6,22 @@
 //! - [`held_out_error`]: a material against the truth at the G-buffer queries of held-out
 //!   views ([`fidelity`] paints and judges the analytic suite through the real path;
 //!   [`suite`](mod@suite) judges the wide suite on analytic sphere views, rim light included);
+//! - [`rendered_error`]: a material against rendered views, where the truth is a picture
+//!   ([`rendered`]: the suite another renderer made);
 //! - [`bench`](mod@bench): `brdfpaint bench`, the thesis's tables and the shader frame times;
 //!   [`measure_stroke_to_frame`]: the live painting loop, stroke to frame.
 
 pub mod bench;
 pub mod faults;
 pub mod fidelity;
+pub mod rendered;
 mod stroke;
 pub mod suite;
 
 use crate::brdf::{Reflectance, SphereView};
 use crate::error::Result;
 use crate::factor::Query;
-use crate::sample::{Erosion, PaintedView};
+use crate::sample::{Erosion, PaintedView, Samples};
 
 pub use fidelity::StudyView;
 pub use stroke::{measure_stroke_to_frame, StrokeTiming};
@@ -71,6 +74,19 @@ pub fn held_out_error(
         }
     }
     Ok(relative_rms(pairs))
+}
+
+/// [`relative_rms`] of `material` against each of `views`, where the truth is the picture:
+/// at every sample (a usable, painted pixel), the material's shading against the pixel
+/// divided by the light (S = BRDF × cos θ_l, DESIGN.md), as [`Samples::gather`] reads it.
+pub fn rendered_error(material: &dyn Reflectance, views: &[PaintedView]) -> Result<Vec<f64>> {
+    views
+        .iter()
+        .map(|v| {
+            let s = Samples::gather(std::slice::from_ref(v))?;
+            Ok(relative_rms(s.pattern.queries.iter().zip(&s.values).map(|(q, &t)| (material.shading(q), t))))
+        })
+        .collect()
 }
 
 /// Where on the surface paintings have samples: cells of a 64² uv grid.
