@@ -11,7 +11,7 @@
 //!
 //! The analytic base is chosen as `brdfpaint fit` chooses it (`auto`) unless `--base` says.
 
-use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::factor::{Mapping, Robust, Settings};
 use brdfpaint::pipeline::Reading;
 use brdfpaint::study::median;

@@ -44,6 +44,7 @@ pub mod litsphere;
 pub mod live;
 pub mod material;
 pub mod pipeline;
+pub mod read;
 pub mod render;
 pub mod sample;
 pub mod scene;

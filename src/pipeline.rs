@@ -23,7 +23,7 @@ use std::time::Instant;
 use crate::commit::StagedDir;
 use crate::error::{Error, Result};
 use crate::factor::cache::{Cache, Outcome};
-use crate::factor::base::BaseChoice;
+use crate::read::lobe::BaseChoice;
 use crate::factor::{defaults, difference_range, DifferenceChoice, DIFFERENCE_REACH_DEG, Errors, Fit, Mapping, Prepared, Settings};
 use crate::images::Rgb;
 use crate::material::map::{self, MapOptions, MapReport};
@@ -42,7 +42,7 @@ pub struct Options {
     pub mapping: Mapping,
     /// Terms, coefficient resolution and method of a material map or hybrid.
     pub map: MapOptions,
-    /// The analytic base under a uniform product ([`crate::factor::base`], issue 15).
+    /// The analytic base under a uniform product ([`crate::brdf::lobe`], issue 15).
     /// `None` by default (the demo, lit spheres and live painting fit the plain product);
     /// `brdfpaint fit` passes its `--base`, `auto` unless told.
     pub base: BaseChoice,
@@ -567,7 +567,7 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
         // The base re-solves on the same prepared system: one more solve, and the lobe's
         // own fit (BENCHMARKS.md: about 58 ms for 7.6k samples, seven lobe families).
         let (p, s) = (&solved.prepared, &samples);
-        if let Some(based) = Material::fit_based(p, &s.pattern, &s.values, &solved.fit, &settings, opts.mapping, opts.base, views.len() == 1, provenance.clone())? {
+        if let Some(based) = crate::read::lobe::fit_based(p, &s.pattern, &s.values, &solved.fit, &settings, opts.mapping, opts.base, views.len() == 1, provenance.clone())? {
             uniform = based;
         }
     }

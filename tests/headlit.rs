@@ -6,7 +6,7 @@
 //! and by light sweeps: a material painted lit from the front darkens when the light moves
 //! behind it.
 
-use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::factor::{Mapping, Pattern, Query, Settings};
 use brdfpaint::pipeline::Reading;
 use brdfpaint::sample::SceneSampler;

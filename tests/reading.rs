@@ -4,7 +4,7 @@
 //! against the clean truth: the painter's true light, the clean painting, held-out views.
 
 use brdfpaint::brdf::Analytic;
-use brdfpaint::factor::base::Lobe;
+use brdfpaint::brdf::lobe::Lobe;
 use brdfpaint::factor::{Mapping, Settings};
 use brdfpaint::pipeline::{self, Reading};
 use brdfpaint::sample::{register, strays, tones, SceneSampler};
@@ -28,7 +28,7 @@ fn held_out_median(f: &Faults, reading: Reading) -> f64 {
     let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, SIZE).unwrap()).collect();
     let painted = [FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, f.light_off_deg).unwrap()];
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
-    let rows = faults::measure(&painted, &held, &faults::suite(), &Settings::default(), f, &plain, reading, brdfpaint::factor::base::BaseChoice::Auto).unwrap();
+    let rows = faults::measure(&painted, &held, &faults::suite(), &Settings::default(), f, &plain, reading, brdfpaint::read::lobe::BaseChoice::Auto).unwrap();
     median(&rows.iter().map(|r| r.held_out).collect::<Vec<_>>())
 }
 
@@ -176,7 +176,7 @@ fn a_sharp_highlight_in_flat_tones_is_read_with_a_microfacet_lobe() {
     assert_eq!(family.map(|f| f.0), Some(Lobe::Ggx), "{family:?}");
     let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, SIZE).unwrap()).collect();
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
-    let rows = faults::measure(std::slice::from_ref(&view), &held, std::slice::from_ref(&model), &Settings::default(), &Faults::posterized(), &plain, Reading::default(), brdfpaint::factor::base::BaseChoice::Auto).unwrap();
+    let rows = faults::measure(std::slice::from_ref(&view), &held, std::slice::from_ref(&model), &Settings::default(), &Faults::posterized(), &plain, Reading::default(), brdfpaint::read::lobe::BaseChoice::Auto).unwrap();
     eprintln!("ggx 0.2, 6 levels: relative RMS against the clean painting {before:.4} -> {between:.4} -> {refined:.4}; held-out {:.4}", rows[0].held_out);
     // Measured at 128²: the tone edges 0.263, through the Blinn-Phong lobes 0.294 (held-out
     // 0.294), through the microfacet lobe 0.100 (held-out 0.105).
@@ -193,7 +193,7 @@ fn posterized(model: &Analytic, size: usize) -> (Vec<String>, f64) {
     let notes = pipeline::read(&mut views, &[&view.view.gbuffer], &Reading::default()).unwrap();
     let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, size).unwrap()).collect();
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
-    let rows = faults::measure(std::slice::from_ref(&view), &held, std::slice::from_ref(model), &Settings::default(), &Faults::posterized(), &plain, Reading::default(), brdfpaint::factor::base::BaseChoice::Auto).unwrap();
+    let rows = faults::measure(std::slice::from_ref(&view), &held, std::slice::from_ref(model), &Settings::default(), &Faults::posterized(), &plain, Reading::default(), brdfpaint::read::lobe::BaseChoice::Auto).unwrap();
     eprintln!("{}, 6 levels, {size}²: held-out {:.4}; {notes:#?}", model.name(), rows[0].held_out);
     (notes, rows[0].held_out)
 }
@@ -373,7 +373,7 @@ fn a_toned_paintings_light_is_taken_from_its_tones_when_the_fit_cannot_tell() {
         let degrees: f64 = turn.split(" lit ").nth(1).and_then(|r| r.split('°').next()).and_then(|d| d.parse().ok()).unwrap();
         assert!((6.0..=10.0).contains(&degrees), "seed {seed}: {turn}");
         let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
-        let rows = faults::measure(&[painted], &held, &[model], &Settings::default(), &f, &plain, Reading::default(), brdfpaint::factor::base::BaseChoice::Auto).unwrap();
+        let rows = faults::measure(&[painted], &held, &[model], &Settings::default(), &f, &plain, Reading::default(), brdfpaint::read::lobe::BaseChoice::Auto).unwrap();
         eprintln!("seed {seed}: {turn}\nheld-out {:.4}", rows[0].held_out);
         assert!(rows[0].held_out < bound, "seed {seed}: {}", rows[0].held_out);
     }
@@ -386,7 +386,7 @@ fn paintings_with_every_fault_generalize() {
     let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, SIZE).unwrap()).collect();
     let painted = [FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, f.light_off_deg).unwrap()];
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
-    let rows = faults::measure(&painted, &held, &faults::suite(), &Settings::default(), &f, &plain, Reading::default(), brdfpaint::factor::base::BaseChoice::Auto).unwrap();
+    let rows = faults::measure(&painted, &held, &faults::suite(), &Settings::default(), &f, &plain, Reading::default(), brdfpaint::read::lobe::BaseChoice::Auto).unwrap();
     let held_out = median(&rows.iter().map(|r| r.held_out).collect::<Vec<_>>());
     let worst = rows.iter().map(|r| r.worst_view).fold(0.0, f64::max);
     eprintln!("all faults: held-out median {held_out:.4}, worst view {worst:.3}");

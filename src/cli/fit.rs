@@ -10,7 +10,7 @@ use super::Failure;
 use brdfpaint::brdf::Merl;
 use brdfpaint::error::{Error, Result};
 use brdfpaint::factor::cache::{Cache, Outcome};
-use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::factor::{prepare, DifferenceChoice, Fit, Mapping, Pattern, Settings};
 use brdfpaint::litsphere;
 use brdfpaint::material::{map, Kind, Material};
@@ -224,7 +224,7 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
     let provenance =
         pipeline::provenance(vec![merl_path.display().to_string()], Some(fit.errors), pattern.len(), prepared.prepare_s, solve_s);
     let plain = Material::from_fit(settings, &fit, provenance.clone())?;
-    let material = Material::fit_based(&prepared, &pattern, &values, &fit, settings, args.mapping, args.base, false, provenance)?.unwrap_or(plain);
+    let material = brdfpaint::read::lobe::fit_based(&prepared, &pattern, &values, &fit, settings, args.mapping, args.base, false, provenance)?.unwrap_or(plain);
     pipeline::save_material(&material, &args.out, &[merl_path])?;
     println!(
         "{} samples, {} unknowns: prepare {:.1} ms ({}), solve {:.2} ms",

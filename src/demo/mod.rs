@@ -415,7 +415,7 @@ fn fit_material(
         spec.paintings.iter().map(|p| (scene_paths[p.view].clone(), tmp.join("paintings").join(p.file))).collect();
     let mut loaded = pipeline::load_views(sampler, &pairs, Erosion::default())?;
     // The analytic base as `brdfpaint fit` chooses it (a material map fits none).
-    let mut opts = pipeline::Options { settings: settings.clone(), base: crate::factor::base::BaseChoice::Auto, ..Default::default() };
+    let mut opts = pipeline::Options { settings: settings.clone(), base: crate::read::lobe::BaseChoice::Auto, ..Default::default() };
     if let FitKind::MaterialMap { terms } = spec.kind {
         opts.kind = Kind::MaterialMap;
         opts.map.terms = terms;

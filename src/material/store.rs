@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 use super::{Coefficients, Factor, Kind, Material, Provenance, Term};
 use crate::commit::{Claim, Legacy, StagedDir};
 use crate::error::{Error, Result};
-use crate::factor::base::Base;
+use crate::brdf::lobe::Base;
 use crate::factor::{FactorSpec, LogMap};
 use crate::images::Rgb;
 

@@ -38,7 +38,7 @@ use rayon::prelude::*;
 
 use super::{proxy, Geometry, PaintedView, Samples};
 use crate::error::Result;
-use crate::factor::base::Base;
+use crate::brdf::lobe::Base;
 use crate::factor::{Mapping, Settings};
 use crate::render::GBuffer;
 

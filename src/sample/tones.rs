@@ -32,7 +32,7 @@
 use rayon::prelude::*;
 
 use super::{proxy, PaintedView};
-use crate::factor::base::Lobe;
+use crate::brdf::lobe::Lobe;
 use crate::images::{self, linear_to_srgb, srgb_to_linear};
 
 /// Most distinct codes per channel of a toned painting.

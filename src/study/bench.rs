@@ -580,7 +580,7 @@ fn read_fit_cases_in(quick: bool, cache: &crate::factor::cache::Cache) -> Result
     let mut sampler = crate::sample::SceneSampler::new()?;
     let view = FaultyView::new(&mut sampler, &super::fidelity::painted_presets(1)[0], SIZE, 0.0)?;
     let model = faults::suite().into_iter().find(|m| m.name() == "blinn-phong-8").ok_or_else(|| Error::Numeric("no blinn-phong-8 in the faults suite".into()))?;
-    let opts = crate::pipeline::Options { base: crate::factor::base::BaseChoice::Auto, ..Default::default() };
+    let opts = crate::pipeline::Options { base: crate::read::lobe::BaseChoice::Auto, ..Default::default() };
     let mut cases = Vec::new();
     for (name, f) in [("as rendered", Faults::clean()), ("6 flat tones", Faults::posterized())] {
         let painted = faults::paint(&view, &model, &f)?;

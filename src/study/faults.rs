@@ -18,7 +18,7 @@
 use glam::{DVec2, DVec3, Vec3};
 
 use crate::brdf::{Analytic, Reflectance, SphereView};
-use crate::demo::brush::SplitMix;
+use crate::util::SplitMix;
 use crate::error::{Error, Result};
 use crate::factor::{Fit, Prepared, Settings};
 use crate::images::{linear_to_srgb, srgb_to_linear, Painting};
@@ -361,7 +361,7 @@ pub fn measure(
     faults: &Faults,
     solve: Solve<'_>,
     reading: Reading,
-    base: crate::factor::base::BaseChoice,
+    base: crate::read::lobe::BaseChoice,
 ) -> Result<Vec<Row>> {
     let mut prepared: Option<Prepared> = None;
     let mut rows = Vec::new();
@@ -382,7 +382,7 @@ pub fn measure(
         let mut material = Material::from_fit(settings, &fit, Provenance::default())?;
         // As `brdfpaint fit` does: the analytic base when it explains the painting as well as
         // the painting's roughness allows.
-        if let Some(based) = Material::fit_based(p, &samples.pattern, &samples.values, &fit, settings, crate::factor::Mapping::Auto, base, views.len() == 1, Provenance::default())? {
+        if let Some(based) = crate::read::lobe::fit_based(p, &samples.pattern, &samples.values, &fit, settings, crate::factor::Mapping::Auto, base, views.len() == 1, Provenance::default())? {
             material = based;
         }
         let held = held_out_error(&material, model, held_out, None)?;
