@@ -13,7 +13,7 @@
 
 use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::factor::{Mapping, Robust, Settings};
-use brdfpaint::pipeline::Reading;
+use brdfpaint::read::Reading;
 use brdfpaint::study::median;
 use brdfpaint::study::faults::{self, FaultyView, Faults, Row};
 use brdfpaint::study::fidelity::{held_out_presets, painted_presets, StudyView};

@@ -43,6 +43,7 @@ pub mod images;
 pub mod litsphere;
 pub mod live;
 pub mod material;
+pub mod note;
 pub mod pipeline;
 pub mod read;
 pub mod render;

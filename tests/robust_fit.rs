@@ -6,7 +6,7 @@ use brdfpaint::brdf::{held_out_views, Analytic, SphereView};
 use brdfpaint::demo::brush::SplitMix;
 use brdfpaint::factor::{prepare, LogMap, Mapping, Robust, Settings, BOUND};
 use brdfpaint::brdf::Reflectance;
-use brdfpaint::pipeline::Reading;
+use brdfpaint::read::Reading;
 use brdfpaint::study::median;
 use brdfpaint::study::faults::{self, FaultyView, Faults};
 use brdfpaint::study::fidelity::{held_out_presets, painted_presets, StudyView};
@@ -202,7 +202,7 @@ fn a_collapsed_stray_search_still_finds_the_strokes() {
 }
 
 /// Stray strokes in flat tones are left out, and the painting read again without them
-/// (`pipeline::read`, `sample::strays`' toned rim): a stroke in flat tones is tones of its own,
+/// (`read::Reader`, `read::strays`' toned rim): a stroke in flat tones is tones of its own,
 /// which the interpolation between edges and the light's registration read before the stray
 /// search finds it. 256², six tones and eight strokes (seed 1), judged on held-out lights and
 /// views against the clean truth. Measured: GGX 0.2 0.105, GGX 0.7 0.018, Oren-Nayar 0.008;
@@ -221,11 +221,18 @@ fn strokes_in_flat_tones_are_read_again_without_them() {
         assert!(row.held_out < bound, "{name}: held out {:.4}", row.held_out);
     }
     // What the user reads: the strokes left out, and counted apart from the silhouette band.
-    let mut view = [faults::paint(&painted[0], &models[1], &f).unwrap()];
+    let mut view = vec![faults::paint(&painted[0], &models[1], &f).unwrap()];
     let band = view[0].geometry.pixels.iter().filter(|p| p.is_some()).count() - view[0].geometry.usable_count();
-    let notes = brdfpaint::pipeline::read(&mut view, &[&painted[0].view.gbuffer], &Reading::default()).unwrap();
+    let notes = read_views(&mut view, &[&painted[0].view.gbuffer]);
     let g = &view[0].geometry;
     assert!(g.left_out > 300, "left out {}", g.left_out);
     assert_eq!(g.pixels.iter().filter(|p| p.is_some()).count() - g.usable_count() - g.left_out, band);
     assert!(notes.iter().any(|n| n.contains(&format!("{} painted pixels read as stray strokes", g.left_out)) && n.contains("left out")), "{notes:#?}");
+}
+
+/// The views read as `fit` reads them (`read::Reader`), in place; the notes as lines.
+fn read_views(views: &mut Vec<brdfpaint::sample::PaintedView>, gbuffers: &[&brdfpaint::render::GBuffer]) -> Vec<String> {
+    let evidence = brdfpaint::read::Reader::new(Reading::default(), gbuffers).read(std::mem::take(views)).unwrap();
+    *views = evidence.views;
+    evidence.notes.iter().map(|n| n.to_string()).collect()
 }

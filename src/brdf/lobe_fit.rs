@@ -96,7 +96,7 @@ impl Base {
     }
 
     /// [`Base::fit_lobe`] with the width given: `alpha` held, so that only the directions'
-    /// fit is compared ([`crate::sample::register`] turns the light under it).
+    /// fit is compared ([`crate::read::register`] turns the light under it).
     pub fn fit_lobe_at(pattern: &Pattern, values: &[[f64; 3]], lobe: Lobe, alpha: f64) -> Option<(Base, f64)> {
         if values.len() != pattern.len() {
             return None;

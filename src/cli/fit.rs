@@ -13,6 +13,7 @@ use brdfpaint::factor::cache::{Cache, Outcome};
 use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::factor::{prepare, DifferenceChoice, Fit, Mapping, Pattern, Settings};
 use brdfpaint::litsphere;
+use brdfpaint::note::{Note, Remedy};
 use brdfpaint::material::{map, Kind, Material};
 use brdfpaint::pipeline::{self, Options};
 use brdfpaint::sample::{Erosion, Neighbours, SceneSampler};
@@ -285,8 +286,8 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
         None => println!("light ({:.2}, {:.2}, {:.2}) as given", l.x, l.y, l.z),
     }
     let fitted = &lit.fitted;
-    for note in &fitted.material.provenance.notes {
-        println!("{note}");
+    for note in &fitted.notes {
+        say(note);
     }
     let views = std::slice::from_ref(&lit.view);
     // The scene goes into the material directory with it, in one commit.
@@ -309,6 +310,24 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
         scene_path.display()
     );
     Ok(())
+}
+
+/// Prints a note, with the option that changes what it describes.
+fn say(note: &Note) {
+    let hint = note.remedy().map(|r| match r {
+        Remedy::KeepTones => "--keep-tones fits the tones as painted",
+        Remedy::KeepLight => "--keep-light uses the scene's as given",
+        Remedy::KeepStrokes => "--keep-strokes fits them as painted",
+        Remedy::Erode => "--erode sets the silhouette band",
+        Remedy::SecondView => "add one with --scene S2 --image P2",
+        Remedy::NoDifferenceFactor => "--theta-d off leaves it out",
+        Remedy::MaterialMap => "try --kind material-map",
+    });
+    let prefix = if note.is_warning() { "" } else { "note: " };
+    match hint {
+        Some(hint) => println!("{prefix}{note} ({hint})"),
+        None => println!("{prefix}{note}"),
+    }
 }
 
 /// One line on the material's analytic base, when it has one.
@@ -341,16 +360,16 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
     let mut sampler = SceneSampler::new()?;
     let pairs: Vec<(PathBuf, PathBuf)> = args.scene.iter().cloned().zip(args.image.iter().cloned()).collect();
     let mut loaded = pipeline::load_views(&mut sampler, &pairs, erosion)?;
-    loaded.read(&pipeline::Reading { smooth_tones: !args.keep_tones, register_light: !args.keep_light, repaint_strays: !args.keep_strokes }, opts.kind)?;
+    loaded.read(&brdfpaint::read::Reading { smooth_tones: !args.keep_tones, register_light: !args.keep_light, repaint_strays: !args.keep_strokes }, opts.kind)?;
     let pipeline::Loaded { views, notes, .. } = loaded;
     for note in &notes {
-        println!("note: {note}");
+        say(note);
     }
     let opts = &Options { base: args.base, ..opts.clone() };
     let mut fitted = pipeline::fit(&views, opts, Cache::user().as_ref())?;
     print_base(&fitted.material);
     // How the paintings were read goes into material.json too, before the fit's own notes.
-    fitted.material.provenance.notes.splice(0..0, notes.iter().cloned());
+    fitted.prepend_notes(&notes);
     if let Some((report, _)) = &fitted.map {
         let what = match opts.map.method {
             map::Method::Greedy => "terms on positive residuals",
@@ -360,8 +379,8 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
             println!("{} {what}: RMS {:.5}  relative {:.4}  max {:.4}", k + 1, e.rms, e.rms_relative, e.max);
         }
     }
-    for note in &fitted.material.provenance.notes[notes.len()..] {
-        println!("{note}");
+    for note in &fitted.notes[notes.len()..] {
+        say(note);
     }
     let per_view = fitted.view_errors(&views);
     let inputs: Vec<&Path> = args.scene.iter().chain(&args.image).map(PathBuf::as_path).collect();

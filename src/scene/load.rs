@@ -46,12 +46,12 @@ impl Scene {
         let path = path.as_ref();
         let loaded = Loaded::read(path)?;
         let camera = loaded.camera.ok_or_else(|| {
-            Error::format(path, "the scene has no camera (add a camera node, or use --model with --preset)")
+            Error::format(path, "the scene has no camera (add a camera node, or frame the model in one of the preset views instead)")
         })?;
         let light = loaded.light.ok_or_else(|| {
             Error::format(
                 path,
-                "the scene has no light (add a KHR_lights_punctual directional or point light node, or use --model with --preset)",
+                "the scene has no light (add a KHR_lights_punctual directional or point light node, or frame the model in one of the preset views instead)",
             )
         })?;
         Ok(Scene { meshes: loaded.meshes, camera, light })

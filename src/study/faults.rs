@@ -23,7 +23,7 @@ use crate::error::{Error, Result};
 use crate::factor::{Fit, Prepared, Settings};
 use crate::images::{linear_to_srgb, srgb_to_linear, Painting};
 use crate::material::{Material, Provenance};
-use crate::pipeline::Reading;
+use crate::read::Reading;
 use super::fidelity::LIGHT_COLOR;
 use super::{held_out_error, StudyView};
 use crate::sample::scene::geometry_from_gbuffer;
@@ -367,8 +367,8 @@ pub fn measure(
     let mut rows = Vec::new();
     let gbuffers: Vec<&crate::render::GBuffer> = painted.iter().map(|v| &v.view.gbuffer).collect();
     for model in models {
-        let mut views: Vec<PaintedView> = painted.iter().map(|v| paint(v, model, faults)).collect::<Result<_>>()?;
-        crate::pipeline::read(&mut views, &gbuffers, &reading)?;
+        let views: Vec<PaintedView> = painted.iter().map(|v| paint(v, model, faults)).collect::<Result<_>>()?;
+        let views = crate::read::Reader::new(reading, &gbuffers).read(views)?.views;
         let samples = Samples::gather(&views)?;
         // As `brdfpaint fit` does: headlit paintings get the light prior.
         let settings = &settings.for_pattern(&samples.pattern);

@@ -26,7 +26,8 @@ use crate::brdf::Analytic;
 use crate::error::{Error, Result};
 use crate::read::lobe::BaseChoice;
 use crate::material::Kind;
-use crate::pipeline::{self, Options, Reading};
+use crate::pipeline::{self, Options};
+use crate::read::Reading;
 use crate::sample::{Erosion, PaintedView, SceneSampler};
 use crate::scene::{Light, Preset, Scene};
 
