@@ -146,14 +146,14 @@ fn main() -> brdfpaint::Result<()> {
     brush_names.sort();
     brush_names.dedup();
     let model_count = rows.iter().map(|r| &r.model).collect::<std::collections::BTreeSet<_>>().len();
+    let paintings = rows.iter().filter(|r| r.brush != "truth").count() / bases.len();
     println!(
-        "{} paintings of {model_count} models in {} ({} brushes), held out on {} views at {held_size}²; each cell: median over models of each model's median held-out relative RMS / worst held-out view",
-        rows.len() / bases.len(),
+        "{paintings} paintings of {model_count} models in {} ({} brushes), held out on {} views at {held_size}²; each cell: median over models of each model's median held-out relative RMS / worst held-out view",
         root.display(),
-        brush_names.len(),
+        brush_names.iter().filter(|b| *b != "truth").count(),
         held.len()
     );
-    println!("{:<10} {:<5} {:>16} {:>16} {:>16}", "case", "base", "all models", "suite (9)", "outside (4)");
+    println!("{:<10} {:<5} {:>16} {:>16} {:>16}", "case", "base", "all models", "faults suite", "outside families");
     for case in &cases {
         for &base in &bases {
             let of = |keep: &dyn Fn(&Judged) -> bool| summary(rows.iter().filter(|r| &r.case == case && r.base == base && keep(r)));

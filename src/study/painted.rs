@@ -119,7 +119,7 @@ pub fn write_truth(sampler: &mut SceneSampler, preset: &Preset, size: usize, mod
     for light in [at_scene.light, off] {
         peak = render(&at_scene, with_light(&light, colour, 1.0))?.into_iter().flatten().flatten().fold(peak, f64::max);
     }
-    if !(peak > 0.0) {
+    if peak <= 0.0 {
         return Err(Error::Numeric(format!("the truth in {} is black", preset.name)));
     }
     let intensity = (0.95 / peak) as f32;

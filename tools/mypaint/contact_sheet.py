@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """A contact sheet of paintings: each shrunk by a whole factor to at most --size pixels,
-shown as painted (the paper outside the sphere included), in rows of --cols.
+what was painted (alpha above 0) on white, in rows of --cols.
 
     /usr/bin/python3 contact_sheet.py OUT.png A.png B.png ... [--cols 5] [--size 128]
 """
@@ -22,7 +22,8 @@ def main():
     a = ap.parse_args()
     tiles = []
     for path in a.paintings:
-        rgb = read_png(path)[..., :3]
+        rgba = read_png(path)
+        rgb = np.where(rgba[..., 3:] > 0, rgba[..., :3], 1.0)
         f = max(1, -(-rgb.shape[0] // a.size))
         h, w = rgb.shape[0] // f * f, rgb.shape[1] // f * f
         tiles.append(rgb[:h, :w].reshape(h // f, f, w // f, f, 3).mean((1, 3)))
@@ -32,7 +33,9 @@ def main():
     for k, t in enumerate(tiles):
         r, c = divmod(k, a.cols)
         sheet[r * th:r * th + t.shape[0], c * tw:c * tw + t.shape[1]] = t
-    png.from_array(np.round(sheet * 255).astype(np.uint8).reshape(sheet.shape[0], -1), "RGB").save(a.out)
+    with open(a.out, "wb") as f:
+        png.Writer(sheet.shape[1], sheet.shape[0], greyscale=False, compression=9).write(
+            f, np.round(sheet * 255).astype(np.uint8).reshape(sheet.shape[0], -1))
 
 
 if __name__ == "__main__":

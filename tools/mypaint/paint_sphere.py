@@ -33,9 +33,10 @@ PAPERS = "/usr/share/mypaint/backgrounds"
 
 # Per preset: the brush; the paper and how it shows (`tooth`: dry pigment misses the
 # paper's valleys, by `tooth` per standard deviation of its relief; `ground`: the paper is
-# on the canvas under wet paint, which smudges into it); brush radius per pass and strokes per pass (as coverage), both relative to the
-# sphere's radius R; stroke length range (R); pressure range; how far a stroke's direction
-# strays from the level line (radians); how much paper relief shows through paint.
+# on the canvas under wet paint, which smudges into it); brush radius per pass (in sphere
+# radii R) and strokes per pass (as coverage of what is still off); stroke length range
+# (R); pressure range; how far a stroke's direction strays from the level line (radians);
+# how much of the paper's relief shows through paint.
 PRESETS = {
     "charcoal": dict(myb="tanda/charcoal-03", paper="ramon/HR_RoughPaper.png", ground="tooth", tooth=0.35,
                      radii=(0.07, 0.045, 0.03), cover=(3.0, 2.5, 2.0), length=(0.4, 0.9),
@@ -104,6 +105,9 @@ def blur(a, sigma, mask=None):
 
 
 class Painter:
+    """A painter at work on one canvas: the truth it copies (sRGB) and its mask, a preset,
+    its random numbers and which faults it makes."""
+
     def __init__(self, truth, mask, preset, rng, faults):
         self.t, self.mask, self.p, self.rng, self.faults = truth, mask, preset, rng, faults
         self.h, self.w = mask.shape
@@ -273,6 +277,7 @@ def main():
     ap.add_argument("--faults", nargs="?", const="strays,tones,noise", default="",
                     type=lambda s: set(s.split(",")) - {""}, help="some of strays,tones,noise (default: all)")
     ap.add_argument("--shrink", type=int, default=1, help="box-filter the result by this factor (a coarser scan)")
+    ap.add_argument("--bare", action="store_true", help="black, not paper, where alpha is 0 (smaller files)")
     a = ap.parse_args()
     rgba = read_png(a.truth)
     truth, mask = rgba[..., :3], rgba[..., 3] > 0.5
@@ -296,7 +301,7 @@ def main():
         out = np.clip(out + NOISE * rng.standard_normal(out.shape), 0, 1)
     # The sphere, as if masked while painting, and the strays' paint beyond it; paper elsewhere.
     keep = mask | painter.footprint
-    out = np.where(keep[..., None], out, painter.paper)
+    out = np.where(keep[..., None], out, 0.0 if a.bare else painter.paper)
     alpha = keep.astype(np.float64)
     if a.shrink > 1:
         f = a.shrink
