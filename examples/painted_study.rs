@@ -15,8 +15,8 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::factor::cache::Cache;
+use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::sample::SceneSampler;
 use brdfpaint::study::fidelity::{held_out_presets, painted_presets, StudyView};
 use brdfpaint::study::painted::{fit_painting, models, outside, scene, truth_files};
@@ -153,7 +153,7 @@ fn main() -> brdfpaint::Result<()> {
         brush_names.iter().filter(|b| *b != "truth").count(),
         held.len()
     );
-    println!("{:<10} {:<5} {:>16} {:>16} {:>16}", "case", "base", "all models", "faults suite", "outside families");
+    println!("{:<10} {:<5} {:>16} {:>16} {:>16}", "case", "base", "all models", "faults suite", "outside");
     for case in &cases {
         for &base in &bases {
             let of = |keep: &dyn Fn(&Judged) -> bool| summary(rows.iter().filter(|r| &r.case == case && r.base == base && keep(r)));
