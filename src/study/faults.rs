@@ -25,7 +25,7 @@ use crate::images::{linear_to_srgb, srgb_to_linear, Painting};
 use crate::material::{Material, Provenance};
 use crate::read::Reading;
 use super::fidelity::LIGHT_COLOR;
-use super::{held_out_error, StudyView};
+use super::{held_out_and_worst, StudyView};
 use crate::sample::scene::geometry_from_gbuffer;
 use crate::sample::{Erosion, Geometry, PaintedView, Samples, SceneSampler};
 use crate::scene::{Light, Preset};
@@ -385,10 +385,9 @@ pub fn measure(
         if let Some(based) = crate::read::lobe::fit_based(p, &samples.pattern, &samples.values, &fit, settings, crate::factor::Mapping::Auto, base, views.len() == 1, Provenance::default())? {
             material = based;
         }
-        let held = held_out_error(&material, model, held_out, None)?;
-        let worst = held_out.chunks(1).map(|v| held_out_error(&material, model, v, None)).collect::<Result<Vec<f64>>>()?;
+        let (held, worst) = held_out_and_worst(&material, model, held_out)?;
         let sweep = sweep_ratio(&light_sweep(&material, 24, 64));
-        rows.push(Row { model: model.name(), train: fit.errors.rms_relative, held_out: held, worst_view: worst.into_iter().fold(0.0, f64::max), sweep, map: fit.map.name() });
+        rows.push(Row { model: model.name(), train: fit.errors.rms_relative, held_out: held, worst_view: worst, sweep, map: fit.map.name() });
     }
     Ok(rows)
 }
