@@ -47,7 +47,7 @@ fn main() -> brdfpaint::Result<()> {
     let mut columns: Vec<(String, Vec<Row>)> = Vec::new();
     for (source, pattern) in &sources {
         for (label, s, base) in &settings {
-            columns.push((format!("{source}: {label}"), measure_on_based(pattern, &named, s, *base, *source == "1 painting")?));
+            columns.push((format!("{source}: {label}"), measure_on_based(pattern, &named, s, *base)?));
         }
     }
     print!("| material |");

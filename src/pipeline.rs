@@ -30,6 +30,7 @@ use crate::material::map::{self, MapOptions, MapReport};
 use crate::material::{Kind, Material, Provenance};
 use crate::render::GBuffer;
 use crate::note::Note;
+use crate::read::lobe::{fit_based, Blocks, Judged};
 use crate::read::{Reader, Reading};
 use crate::sample::{check_same_model, report, Erosion, PaintedView, Samples, SceneSampler};
 
@@ -301,7 +302,10 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
         // The base re-solves on the same prepared system: one more solve, and the lobe's
         // own fit (BENCHMARKS.md: about 58 ms for 7.6k samples, seven lobe families).
         let (p, s) = (&solved.prepared, &samples);
-        if let Some(based) = crate::read::lobe::fit_based(p, &s.pattern, &s.values, &solved.fit, &settings, opts.mapping, opts.base, views.len() == 1, provenance.clone())? {
+        let widths: Vec<usize> = views.iter().map(|v| v.geometry.width).collect();
+        let blocks = Blocks::of_pixels(&s.origin, &widths);
+        let judged = Judged { pattern: &s.pattern, values: &s.values, blocks: &blocks };
+        if let Some(based) = fit_based(p, judged, &settings, opts.mapping, opts.base, cache, provenance.clone())? {
             uniform = based;
         }
     }

@@ -132,15 +132,14 @@ fn an_analytic_base_carries_a_ggx_sphere_to_rim_light() {
 
 /// Issue 11 on issue 15's base: a painting with grain is evidence of a lobe too. One
 /// painting of a GGX sphere (roughness 0.7) with 5% multiplicative grain per pixel misfits
-/// its own lobe by far more than the clean threshold (0.015), but its free product misfits it
-/// about as much: the grain is the painting's, not the lobe's, so `auto` keeps the lobe
-/// (`read::lobe::excess`) and the fit carries it to lights and views nobody painted. A grainy
-/// velvet painting (a sheen of no lobe family) misfits every lobe beyond its grain and keeps
-/// none. Judged against the clean truth on the suite's five held-out views (measured 0.021
-/// with the lobe, 0.132 without).
+/// its own lobe by the grain, but the grain does not recur from one block of the painting to
+/// another, so the lobe predicts held-out blocks as well as the product does and `auto` keeps
+/// it (`read::lobe::choose`): the fit carries it to lights and views nobody painted. A grainy
+/// velvet painting (a sheen of no lobe family) is fitted no worse than by the product alone.
+/// Judged against the clean truth on the suite's five held-out views.
 #[test]
 fn a_grainy_painting_keeps_the_lobe_its_grain_explains() {
-    use brdfpaint::read::lobe::{solve_based, BaseChoice, AUTO_MISFIT};
+    use brdfpaint::read::lobe::{solve_based, BaseChoice, Blocks};
 use brdfpaint::brdf::lobe::Base;
     use brdfpaint::study::relative_rms;
     use brdfpaint::study::suite::{held_out, paintings};
@@ -153,7 +152,7 @@ use brdfpaint::brdf::lobe::Base;
         let values: Vec<[f64; 3]> = pattern.shade(|q| model.shading(q)).into_iter().map(|v| v.map(|x| x * (grain * rng.normal()).exp())).collect();
         let (_, lobe) = Base::fit(&pattern, &values).unwrap();
         let held = |choice| {
-            let fit = solve_based(&prepared, &pattern, &values, Mapping::Auto, choice, true).unwrap();
+            let fit = solve_based(&prepared, &pattern, &values, Mapping::Auto, choice, &Blocks::of_directions(&pattern)).unwrap();
             let e = relative_rms(views.iter().flatten().map(|q| (fit.eval(&settings, q), model.shading(q))));
             (fit.base.is_some(), e)
         };
@@ -162,16 +161,13 @@ use brdfpaint::brdf::lobe::Base;
     let ggx = Analytic::Ggx { diffuse: [0.40, 0.25, 0.12], f0: [0.50, 0.42, 0.35], roughness: 0.7 };
     let (lobe, (kept, auto), none) = judge(&ggx, 0.05);
     eprintln!("ggx: lobe misfit {lobe:.4}, kept {kept}, held-out auto {auto:.4}, none {none:.4}");
-    assert!(lobe > 2.0 * AUTO_MISFIT, "the grain should misfit the lobe alone: {lobe:.4}");
+    assert!(lobe > 0.04, "the grain should misfit the lobe alone: {lobe:.4}");
     assert!(kept && auto < 0.5 * none, "ggx: kept {kept}, held-out auto {auto:.4}, none {none:.4}");
     let velvet = Analytic::Velvet { diffuse: [0.30, 0.05, 0.12], sheen: [0.60, 0.35, 0.50], roughness: 0.35 };
-    // With 10% grain the painting's roughness (0.10) is far above the lobe's 0.039 beyond
-    // it, but it is grain, which the product does not hold, not texture
-    // (`read::lobe::grain`): kept, the lobe was held out at 0.176 against about 0.03.
     for grain in [0.05, 0.10] {
         let (lobe, (kept, auto), none) = judge(&velvet, grain);
         eprintln!("velvet, {grain} grain: lobe misfit {lobe:.4}, kept {kept}, held-out auto {auto:.4}, none {none:.4}");
-        assert!(!kept && auto == none, "velvet, {grain} grain: kept {kept}, held-out auto {auto:.4}, none {none:.4}");
+        assert!(auto <= 1.1 * none, "velvet, {grain} grain: kept {kept}, held-out auto {auto:.4}, none {none:.4}");
     }
 }
 

@@ -209,7 +209,7 @@ fn measured_data_becomes_a_material_that_matches_it_on_new_directions() {
 /// family is refused on load.
 #[test]
 fn version_2_loads_and_a_base_round_trips() {
-    use brdfpaint::read::lobe::{solve_based, BaseChoice};
+    use brdfpaint::read::lobe::{solve_based, BaseChoice, Blocks};
 use brdfpaint::brdf::lobe::{Base, Lobe};
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
     let v2 = Material::load(&data.join("material-v2")).unwrap();
@@ -221,7 +221,7 @@ use brdfpaint::brdf::lobe::{Base, Lobe};
     let values = pattern.shade(|q| model.shading(q));
     let settings = Settings::default();
     let prepared = prepare(&pattern, &settings).unwrap();
-    let fit = solve_based(&prepared, &pattern, &values, Mapping::Auto, BaseChoice::Ggx, false).unwrap();
+    let fit = solve_based(&prepared, &pattern, &values, Mapping::Auto, BaseChoice::Ggx, &Blocks::of_directions(&pattern)).unwrap();
     let material = Material::from_based_fit(&settings, &fit, Provenance::default()).unwrap();
     let base = material.terms[0].base.expect("a base");
     // The material evaluates the based fit exactly (up to the tables' f32).

@@ -13,6 +13,7 @@ use brdfpaint::factor::cache::{Cache, Outcome};
 use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::factor::{prepare, DifferenceChoice, Fit, Mapping, Pattern, Settings};
 use brdfpaint::litsphere;
+use brdfpaint::read::lobe;
 use brdfpaint::note::{Note, Remedy};
 use brdfpaint::material::{map, Kind, Material};
 use brdfpaint::pipeline::{self, Options};
@@ -225,7 +226,9 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
     let provenance =
         pipeline::provenance(vec![merl_path.display().to_string()], Some(fit.errors), pattern.len(), prepared.prepare_s, solve_s);
     let plain = Material::from_fit(settings, &fit, provenance.clone())?;
-    let material = brdfpaint::read::lobe::fit_based(&prepared, &pattern, &values, &fit, settings, args.mapping, args.base, false, provenance)?.unwrap_or(plain);
+    let blocks = lobe::Blocks::of_directions(&pattern);
+    let judged = lobe::Judged { pattern: &pattern, values: &values, blocks: &blocks };
+    let material = lobe::fit_based(&prepared, judged, settings, args.mapping, args.base, Cache::user().as_ref(), provenance)?.unwrap_or(plain);
     pipeline::save_material(&material, &args.out, &[merl_path])?;
     println!(
         "{} samples, {} unknowns: prepare {:.1} ms ({}), solve {:.2} ms",

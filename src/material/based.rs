@@ -56,9 +56,9 @@ impl BasedFit {
 }
 
 /// The product of `prepared` fitted to $S / B$ for a given lobe (the part of
-/// [`solve_based`] after the lobe's fit): $B$ once per sample, then the prepared solve of
+/// [`crate::read::lobe::solve_based`] after the lobe's fit): $B$ once per sample, then the prepared solve of
 /// the ratio under each mapping, kept by its error on $S$. The ratio is raised to `weight`
-/// ([`correction_weight`]; 1 fits it as it is), which scales the product's correction in
+/// ([`crate::read::lobe::choose`]; 1 fits it as it is), which scales the product's correction in
 /// log space.
 pub fn solve_on_base(prepared: &Prepared, pattern: &Pattern, values: &[[f64; 3]], mapping: Mapping, base: &Base, weight: f64) -> Result<BasedFit> {
     let bs: Vec<[f64; 3]> = pattern.queries.iter().map(|q| base.shading(q)).collect();

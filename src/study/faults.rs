@@ -349,7 +349,7 @@ pub type Solve<'a> = &'a dyn Fn(&Prepared, &[[f64; 3]]) -> Result<Fit>;
 /// Fit every model from faulty paintings of `painted` and judge it on `held_out` against
 /// the clean truth. The paintings are read as `reading` says first (`brdfpaint fit` reads
 /// them with [`Reading::default`]), and the product gets the analytic `base` as
-/// [`Material::fit_based`] chooses it (`brdfpaint fit` passes `auto`): a kept base replaces
+/// [`crate::read::lobe::fit_based`] chooses it (`brdfpaint fit` passes `auto`): a kept base replaces
 /// `solve`'s fit with the plain solve over it.
 // The study's axes, each a caller's choice: bundling them would only rename them.
 #[allow(clippy::too_many_arguments)]
@@ -382,7 +382,10 @@ pub fn measure(
         let mut material = Material::from_fit(settings, &fit, Provenance::default())?;
         // As `brdfpaint fit` does: the analytic base when it explains the painting as well as
         // the painting's roughness allows.
-        if let Some(based) = crate::read::lobe::fit_based(p, &samples.pattern, &samples.values, &fit, settings, crate::factor::Mapping::Auto, base, views.len() == 1, Provenance::default())? {
+        let widths: Vec<usize> = views.iter().map(|v| v.geometry.width).collect();
+        let blocks = crate::read::lobe::Blocks::of_pixels(&samples.origin, &widths);
+        let judged = crate::read::lobe::Judged { pattern: &samples.pattern, values: &samples.values, blocks: &blocks };
+        if let Some(based) = crate::read::lobe::fit_based(p, judged, settings, crate::factor::Mapping::Auto, base, None, Provenance::default())? {
             material = based;
         }
         let (held, worst) = held_out_and_worst(&material, model, held_out)?;

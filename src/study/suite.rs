@@ -13,7 +13,7 @@ use glam::DVec3;
 use super::{median, relative_rms};
 use crate::brdf::{held_out_views, painted_views, Analytic, Reflectance, SphereView};
 use crate::error::Result;
-use crate::read::lobe::{solve_based, BaseChoice};
+use crate::read::lobe::{solve_based, BaseChoice, Blocks};
 use crate::factor::{prepare, Mapping, Pattern, Settings};
 
 /// Pixels per side of a painted view.
@@ -78,7 +78,7 @@ pub fn measure(models: &[Analytic], settings: &Settings, painted: &[SphereView])
 pub fn measure_based(models: &[Analytic], settings: &Settings, painted: &[SphereView], base: BaseChoice) -> Result<Vec<Row>> {
     let pattern = Pattern::concat(&painted.iter().map(SphereView::pattern).collect::<Vec<_>>());
     let named: Vec<(String, &dyn Reflectance)> = models.iter().map(|m| (m.name(), m as &dyn Reflectance)).collect();
-    measure_on_based(&pattern, &named, settings, base, painted.len() == 1)
+    measure_on_based(&pattern, &named, settings, base)
 }
 
 /// MERL-style dense sampling: the (light, view) grid of `fit --merl` at density `k`
@@ -90,20 +90,19 @@ pub fn dense(k: usize) -> Result<Pattern> {
 /// Fit every named reflectance from its values on `pattern` with `settings`, and judge it on
 /// [`held_out`].
 pub fn measure_on(pattern: &Pattern, models: &[(String, &dyn Reflectance)], settings: &Settings) -> Result<Vec<Row>> {
-    measure_on_based(pattern, models, settings, BaseChoice::None, false)
+    measure_on_based(pattern, models, settings, BaseChoice::None)
 }
 
 /// [`measure_on`] with a base under the product: one prepared system for every model and
 /// both choices, since the base changes only the values (the right-hand side).
-/// `one_view`: `pattern` is one painting's ([`crate::read::lobe::choose`]).
-pub fn measure_on_based(pattern: &Pattern, models: &[(String, &dyn Reflectance)], settings: &Settings, base: BaseChoice, one_view: bool) -> Result<Vec<Row>> {
+pub fn measure_on_based(pattern: &Pattern, models: &[(String, &dyn Reflectance)], settings: &Settings, base: BaseChoice) -> Result<Vec<Row>> {
     let prepared = prepare(pattern, settings)?;
     let views: Vec<Vec<crate::factor::Query>> =
         held_out(HELD_OUT_RES).iter().map(|(_, v)| v.pixels().into_iter().map(|p| p.query).collect()).collect();
     let mut rows = Vec::new();
     for (name, model) in models {
         let values = pattern.shade(|q| model.shading(q));
-        let fit = solve_based(&prepared, pattern, &values, Mapping::Auto, base, one_view)?;
+        let fit = solve_based(&prepared, pattern, &values, Mapping::Auto, base, &Blocks::of_directions(pattern))?;
         let pairs = |qs: &[crate::factor::Query]| qs.iter().map(|q| (fit.eval(settings, q), model.shading(q))).collect::<Vec<_>>();
         let per_view: Vec<f64> = views.iter().map(|qs| relative_rms(pairs(qs))).collect();
         let pooled = relative_rms(views.iter().flat_map(|qs| pairs(qs)));
@@ -133,7 +132,7 @@ pub fn peaks(model: &Analytic, settings: &Settings, painted: &[SphereView]) -> R
 pub fn peaks_based(model: &Analytic, settings: &Settings, painted: &[SphereView], base: BaseChoice) -> Result<Vec<(&'static str, f64, f64)>> {
     let pattern = Pattern::concat(&painted.iter().map(SphereView::pattern).collect::<Vec<_>>());
     let values = pattern.shade(|q| model.shading(q));
-    let fit = solve_based(&prepare(&pattern, settings)?, &pattern, &values, Mapping::Auto, base, painted.len() == 1)?;
+    let fit = solve_based(&prepare(&pattern, settings)?, &pattern, &values, Mapping::Auto, base, &Blocks::of_directions(&pattern))?;
     let sum = |x: [f64; 3]| x[0] + x[1] + x[2];
     Ok(held_out(PEAK_RES)
         .into_iter()
