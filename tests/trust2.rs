@@ -1,0 +1,146 @@
+//! Issue 33, "trust, round 2" (items 4–8 and the smaller ones): crafted inputs that
+//! panicked, hung or took gigabytes, and loose files real exporters write. Each case asserts
+//! the exit code, the one-line message and, for the bombs, the peak memory the kernel
+//! measured for the run.
+
+use std::os::unix::process::CommandExt;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use brdfpaint::brdf::Merl;
+use serde_json::{json, Value};
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// What one run printed and returned, and its peak resident memory.
+struct Run {
+    code: i32,
+    stdout: String,
+    stderr: String,
+    peak_mib: u64,
+}
+
+/// Runs `brdfpaint` with its prepare cache in `cache`, killed (and the test failed) after
+/// `limit`, under a 4 GiB address-space limit so that a run that would take gigabytes
+/// fails rather than exhausts the machine. The peak is the kernel's (`wait4`).
+fn run(cache: &Path, args: &[&str], limit: Duration) -> Run {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, err) = (dir.path().join("out"), dir.path().join("err"));
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_brdfpaint"));
+    cmd.args(args)
+        .env("BRDFPAINT_CACHE", cache)
+        .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .stdin(Stdio::null())
+        .stdout(std::fs::File::create(&out).unwrap())
+        .stderr(std::fs::File::create(&err).unwrap());
+    const ADDRESS_SPACE: libc::rlim_t = 4 << 30;
+    // SAFETY: only async-signal-safe calls between fork and exec.
+    unsafe {
+        cmd.pre_exec(|| {
+            let limit = libc::rlimit { rlim_cur: ADDRESS_SPACE, rlim_max: ADDRESS_SPACE };
+            if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    // Reaped by `wait4` below, which also gives its resource usage.
+    #[allow(clippy::zombie_processes)]
+    let pid = cmd.spawn().unwrap().id() as libc::pid_t;
+    let start = Instant::now();
+    let (mut status, mut usage) = (0, unsafe { std::mem::zeroed::<libc::rusage>() });
+    loop {
+        // SAFETY: polls our own child (std's handle to it was dropped without waiting).
+        let r = unsafe { libc::wait4(pid, &mut status, libc::WNOHANG, &mut usage) };
+        if r == pid {
+            break;
+        }
+        if start.elapsed() > limit {
+            // SAFETY: our own child, not yet reaped.
+            unsafe {
+                libc::kill(pid, libc::SIGKILL);
+                libc::wait4(pid, &mut status, 0, &mut usage);
+            }
+            panic!("brdfpaint {args:?} hung for {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let code = if libc::WIFEXITED(status) { libc::WEXITSTATUS(status) } else { -libc::WTERMSIG(status) };
+    Run {
+        code,
+        stdout: std::fs::read_to_string(out).unwrap(),
+        stderr: std::fs::read_to_string(err).unwrap(),
+        // ru_maxrss is in kilobytes on Linux.
+        peak_mib: usage.ru_maxrss as u64 >> 10,
+    }
+}
+
+const MINUTE: Duration = Duration::from_secs(60);
+
+/// Exit 1 and one line on stderr that contains every one of `parts`.
+fn assert_one_line_error(r: &Run, parts: &[&str]) {
+    assert_eq!(r.code, 1, "{}", r.stderr);
+    assert_eq!(r.stderr.lines().count(), 1, "{}", r.stderr);
+    assert!(r.stderr.starts_with("error: ") && !r.stderr.contains("internal error"), "{}", r.stderr);
+    for p in parts {
+        assert!(r.stderr.contains(p), "{p:?} not in {}", r.stderr);
+    }
+}
+
+/// A small MERL file (a Lambertian table) and the material `fit --merl` makes of it.
+fn merl_material(dir: &Path) -> PathBuf {
+    let merl = dir.join("lambert.binary");
+    Merl::from_brdf(|_, _| [0.2, 0.3, 0.4]).write(&merl).unwrap();
+    let mat = dir.join("mat");
+    let r = run(dir, &["fit", "--merl", s(&merl), "--density", "6", "--out", s(&mat)], MINUTE);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    mat
+}
+
+/// Smaller item: a texture name with a newline gave a two-line error; control characters
+/// in names are written as escapes.
+#[test]
+fn a_name_with_a_newline_is_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let mat = merl_material(dir.path());
+    let json_path = mat.join("material.json");
+    let mut json: Value = serde_json::from_str(&std::fs::read_to_string(&json_path).unwrap()).unwrap();
+    json["terms"][0]["factors"][0]["texture"] = json!("bad\nname\u{1b}[2J.exr");
+    std::fs::write(&json_path, serde_json::to_string(&json).unwrap()).unwrap();
+    let r = run(dir.path(), &["render", s(&mat), "--model", "sphere", "--size", "32x32", "--out", s(&dir.path().join("r.png"))], MINUTE);
+    assert_one_line_error(&r, &["mat/bad\\nname\\u{1b}[2J.exr: No such file or directory"]);
+}
+
+/// Smaller item: `--merl` on a FIFO or /dev/zero said "0 bytes (truncated?)"; it names the
+/// file type, and nothing is read.
+#[test]
+fn merl_from_a_fifo_or_a_device_names_the_type() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("pipe.binary");
+    let c = std::ffi::CString::new(s(&fifo)).unwrap();
+    // SAFETY: a NUL-terminated path that outlives the call.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+    let out = dir.path().join("mat");
+    let r = run(dir.path(), &["fit", "--merl", s(&fifo), "--out", s(&out)], MINUTE);
+    assert_one_line_error(&r, &["pipe.binary: is a FIFO (named pipe); only regular files are read"]);
+    let r = run(dir.path(), &["fit", "--merl", "/dev/zero", "--out", s(&out)], MINUTE);
+    assert_one_line_error(&r, &["/dev/zero: is a device; only regular files are read"]);
+    assert!(!out.exists());
+}
+
+/// Smaller item: `--lambda -1` and `--erode -1` failed as "unexpected argument"; they are
+/// read as numbers and refused by value.
+#[test]
+fn negative_lambda_and_erode_are_refused_by_value() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = ["fit", "--merl", "x.binary", "--out", "m"];
+    let r = run(dir.path(), &[&base[..], &["--lambda", "-1"]].concat(), MINUTE);
+    assert_one_line_error(&r, &["--lambda -1: the smoothing weight is a finite number, 0 or more"]);
+    let r = run(dir.path(), &[&base[..], &["--erode", "-1"]].concat(), MINUTE);
+    assert_one_line_error(&r, &["--erode -1: give 0 to 64 pixels"]);
+    let r = run(dir.path(), &[&base[..], &["--erode", "65"]].concat(), MINUTE);
+    assert_one_line_error(&r, &["--erode 65: give 0 to 64 pixels"]);
+}
