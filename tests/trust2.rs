@@ -23,6 +23,9 @@ struct Run {
     peak_mib: u64,
 }
 
+/// Every rejected bomb stays under this peak (issue 33's target).
+const BOMB_PEAK_MIB: u64 = 600;
+
 /// Runs `brdfpaint` with its prepare cache in `cache`, killed (and the test failed) after
 /// `limit`, under a 4 GiB address-space limit so that a run that would take gigabytes
 /// fails rather than exhausts the machine. The peak is the kernel's (`wait4`).
@@ -98,6 +101,37 @@ fn merl_material(dir: &Path) -> PathBuf {
     let r = run(dir, &["fit", "--merl", s(&merl), "--density", "6", "--out", s(&mat)], MINUTE);
     assert_eq!(r.code, 0, "{}", r.stderr);
     mat
+}
+
+/// Item 5: a prepare-cache entry that is a FIFO hung `fit`; a link to /dev/zero read until
+/// memory ran out. Both are rebuilt over, as a corrupt entry is.
+#[test]
+fn cache_entries_that_are_fifos_or_devices_are_rebuilt() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let sheet = dir.path().join("sheet");
+    let r = run(dir.path(), &["sheet", "--model", "sphere", "--size", "96x96", "--out", s(&sheet)], MINUTE);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let (scene, painting) = (sheet.join("scene.gltf"), sheet.join("reference.png"));
+    let fit = || run(&cache, &["fit", "--scene", s(&scene), "--image", s(&painting), "--out", s(&dir.path().join("mat"))], MINUTE);
+    let r = fit();
+    assert!(r.code == 0 && r.stdout.contains("cache miss, stored"), "{}{}", r.stdout, r.stderr);
+    let entries: Vec<PathBuf> = std::fs::read_dir(&cache).unwrap().map(|e| e.unwrap().path()).collect();
+    assert_eq!(entries.len(), 1, "{entries:?}");
+    let entry = &entries[0];
+    std::fs::remove_file(entry).unwrap();
+    let fifo = std::ffi::CString::new(s(entry)).unwrap();
+    // SAFETY: a NUL-terminated path that outlives the call.
+    assert_eq!(unsafe { libc::mkfifo(fifo.as_ptr(), 0o600) }, 0);
+    let r = fit();
+    assert!(r.code == 0 && r.stdout.contains("cache file rebuilt (is a FIFO (named pipe); only regular files are read)"), "{}{}", r.stdout, r.stderr);
+    assert!(std::fs::symlink_metadata(entry).unwrap().is_file());
+    std::fs::remove_file(entry).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", entry).unwrap();
+    let r = fit();
+    assert!(r.code == 0 && r.stdout.contains("cache file rebuilt (is a device; only regular files are read)"), "{}{}", r.stdout, r.stderr);
+    assert!(r.peak_mib < BOMB_PEAK_MIB, "peaked at {} MiB", r.peak_mib);
+    assert!(fit().stdout.contains("cache hit"));
 }
 
 /// Smaller item: a texture name with a newline gave a two-line error; control characters
