@@ -3,6 +3,7 @@
 //! the exit code, the one-line message and, for the bombs, the peak memory the kernel
 //! measured for the run.
 
+use std::io::Write;
 use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -93,6 +94,24 @@ fn assert_one_line_error(r: &Run, parts: &[&str]) {
     }
 }
 
+/// An RGB PNG (8- or 16-bit) of `w` × `h` pixels, `colour(x, y)` each, written a row at a time.
+fn write_png(path: &Path, w: u32, h: u32, sixteen: bool, colour: impl Fn(u32, u32) -> [u16; 3]) {
+    let file = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+    let mut encoder = png::Encoder::new(file, w, h);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(if sixteen { png::BitDepth::Sixteen } else { png::BitDepth::Eight });
+    let mut writer = encoder.write_header().unwrap();
+    let mut stream = writer.stream_writer().unwrap();
+    for y in 0..h {
+        let row: Vec<u8> = (0..w)
+            .flat_map(|x| colour(x, y))
+            .flat_map(|c| if sixteen { c.to_be_bytes().to_vec() } else { vec![c as u8] })
+            .collect();
+        stream.write_all(&row).unwrap();
+    }
+    stream.finish().unwrap();
+}
+
 /// A small MERL file (a Lambertian table) and the material `fit --merl` makes of it.
 fn merl_material(dir: &Path) -> PathBuf {
     let merl = dir.join("lambert.binary");
@@ -101,6 +120,42 @@ fn merl_material(dir: &Path) -> PathBuf {
     let r = run(dir, &["fit", "--merl", s(&merl), "--density", "6", "--out", s(&mat)], MINUTE);
     assert_eq!(r.code, 0, "{}", r.stderr);
     mat
+}
+
+/// Item 4: a picture too narrow to hold a sphere panicked `fit --lit-sphere` (index out of
+/// bounds on a shrunk picture with no rows).
+#[test]
+fn lit_sphere_strips_are_one_line_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    for (w, h, shorter) in [(1000, 1, 0), (16384, 1, 0), (1, 16384, 0), (600, 20, 10)] {
+        let path = dir.path().join(format!("strip-{w}x{h}.png"));
+        write_png(&path, w, h, false, |_, _| [200, 100, 50]);
+        let r = run(dir.path(), &["fit", "--lit-sphere", s(&path), "--out", s(&dir.path().join("out"))], MINUTE);
+        let size = format!("strip-{w}x{h}.png is {w}x{h}: too small or too narrow to hold a sphere");
+        assert_one_line_error(&r, &[&size, &format!("its shorter side is {shorter} pixels; a sphere needs 16")]);
+    }
+}
+
+/// Smaller item: a 4096² 16-bit PNG of background (130 KB) took 547 MB before `fit
+/// --lit-sphere` refused it; it is now read a row at a time into the 512² picture fitted.
+#[test]
+fn a_large_background_png_is_refused_in_a_few_megabytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("background.png");
+    write_png(&path, 4096, 4096, true, |_, _| [32768, 16384, 8192]);
+    let r = run(dir.path(), &["fit", "--lit-sphere", s(&path), "--out", s(&dir.path().join("out"))], MINUTE);
+    assert_one_line_error(&r, &["background.png is all background: no sphere to find"]);
+    assert!(r.peak_mib < 100, "peaked at {} MiB", r.peak_mib);
+
+    // A painting whose aspect disagrees with its scene's camera is refused from its header.
+    let sheet = dir.path().join("sheet");
+    let r = run(dir.path(), &["sheet", "--model", "sphere", "--size", "64x64", "--out", s(&sheet)], MINUTE);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let wide = dir.path().join("wide.png");
+    write_png(&wide, 4096, 2048, true, |_, _| [32768, 16384, 8192]);
+    let r = run(dir.path(), &["fit", "--scene", s(&sheet.join("scene.gltf")), "--image", s(&wide), "--out", s(&dir.path().join("mat"))], MINUTE);
+    assert_one_line_error(&r, &["wide.png", "4096x2048"]);
+    assert!(r.peak_mib < 100, "peaked at {} MiB", r.peak_mib);
 }
 
 /// Item 5: a prepare-cache entry that is a FIFO hung `fit`; a link to /dev/zero read until
