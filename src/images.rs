@@ -3,6 +3,7 @@
 //! Colour).
 
 pub mod env;
+mod env_read;
 mod painting;
 mod rows;
 pub mod text;

@@ -10,6 +10,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use brdfpaint::brdf::Merl;
+use brdfpaint::images::env::Environment;
 use serde_json::{json, Value};
 
 fn s(p: &Path) -> &str {
@@ -92,6 +93,12 @@ fn assert_one_line_error(r: &Run, parts: &[&str]) {
     for p in parts {
         assert!(r.stderr.contains(p), "{p:?} not in {}", r.stderr);
     }
+}
+
+/// A bomb is refused with one line, under [`BOMB_PEAK_MIB`].
+fn assert_refused_small(r: &Run, parts: &[&str]) {
+    assert_one_line_error(r, parts);
+    assert!(r.peak_mib < BOMB_PEAK_MIB, "peaked at {} MiB: {}", r.peak_mib, r.stderr);
 }
 
 /// An RGB PNG (8- or 16-bit) of `w` × `h` pixels, `colour(x, y)` each, written a row at a time.
@@ -201,6 +208,83 @@ fn a_name_with_a_newline_is_one_line() {
     std::fs::write(&json_path, serde_json::to_string(&json).unwrap()).unwrap();
     let r = run(dir.path(), &["render", s(&mat), "--model", "sphere", "--size", "32x32", "--out", s(&dir.path().join("r.png"))], MINUTE);
     assert_one_line_error(&r, &["mat/bad\\nname\\u{1b}[2J.exr: No such file or directory"]);
+}
+
+/// A Radiance header of `lines` comment-free attribute lines, then a 4×2 image.
+fn radiance_with_header_lines(path: &Path, lines: usize) {
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+    f.write_all(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n").unwrap();
+    for _ in 0..lines {
+        f.write_all(b"a\n").unwrap();
+    }
+    f.write_all(b"\n-Y 2 +X 4\n").unwrap();
+    f.write_all(&[128, 128, 128, 128].repeat(8)).unwrap();
+}
+
+/// Item 7: a 64 MiB Radiance file of 32 million header lines took 2.6 GB; the header is
+/// bounded. A header of ordinary length still reads.
+#[test]
+fn a_radiance_header_of_millions_of_lines_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let mat = merl_material(dir.path());
+    let bomb = dir.path().join("bomb.hdr");
+    radiance_with_header_lines(&bomb, 32 << 20);
+    let r = run(dir.path(), &["render", s(&mat), "--model", "sphere", "--size", "32x32", "--env", s(&bomb), "--out", s(&dir.path().join("r.png"))], MINUTE);
+    assert_refused_small(&r, &["bomb.hdr: Radiance header longer than 64 KiB"]);
+    let fine = dir.path().join("fine.hdr");
+    radiance_with_header_lines(&fine, 100);
+    let env = Environment::load(&fine).unwrap();
+    assert_eq!((env.width, env.height), (4, 2));
+    assert!(env.pixels.iter().flatten().all(|&v| v == 0.5), "{:?}", env.pixels);
+}
+
+/// Smaller item: the common 8192×4096 map was refused by the 4096×4096 decode cap; it is
+/// averaged to 4096×2048 as it is read. The left half of this map is 0.5, the right 0.25.
+#[test]
+fn an_8k_environment_is_read_at_half_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("8k.hdr");
+    let (w, h) = (8192usize, 4096usize);
+    let mut f = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
+    write!(f, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y {h} +X {w}\n").unwrap();
+    // New-style RLE: per row a (2, 2, w / 256, w % 256) marker, then each of R, G, B, E as
+    // runs of at most 127 (a count byte above 128, then the value).
+    let runs = |value: u8, mut n: usize, out: &mut Vec<u8>| {
+        while n > 0 {
+            let k = n.min(127);
+            out.extend_from_slice(&[128 + k as u8, value]);
+            n -= k;
+        }
+    };
+    let mut row = vec![2, 2, (w >> 8) as u8, (w & 255) as u8];
+    for exponent in [false, false, false, true] {
+        // 0.5 is mantissa 128 with exponent 128; 0.25 the same mantissa with exponent 127.
+        let (left, right) = if exponent { (128, 127) } else { (128, 128) };
+        runs(left, w / 2, &mut row);
+        runs(right, w / 2, &mut row);
+    }
+    for _ in 0..h {
+        f.write_all(&row).unwrap();
+    }
+    drop(f);
+    let env = Environment::load(&path).unwrap();
+    assert_eq!((env.width, env.height), (4096, 2048));
+    assert!(env.pixels.iter().enumerate().all(|(k, p)| *p == [if k % 4096 < 2048 { 0.5 } else { 0.25 }; 3]));
+}
+
+/// Smaller item: an environment negative everywhere rendered black without a word; a map
+/// mostly negative is refused, while codec ringing (a few negative pixels) reads as 0.
+#[test]
+fn a_negative_environment_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let negative = dir.path().join("negative.exr");
+    exr::prelude::write_rgb_file(&negative, 8, 4, |_, _| (-1.0f32, -1.0f32, -1.0f32)).unwrap();
+    let e = Environment::load(&negative).unwrap_err().to_string();
+    assert_eq!(e, format!("{}: 100% of the environment's pixels are negative; radiance is never negative (small negative codec ringing is read as 0, a mostly negative map is refused)", negative.display()));
+    let ringing = dir.path().join("ringing.exr");
+    exr::prelude::write_rgb_file(&ringing, 8, 4, |x, y| if (x, y) == (3, 1) { (-80.0f32, 2.0f32, 2.0f32) } else { (2.0f32, 2.0f32, 2.0f32) }).unwrap();
+    let env = Environment::load(&ringing).unwrap();
+    assert_eq!(env.pixels[8 + 3], [0.0, 2.0, 2.0]);
 }
 
 /// Smaller item: `--merl` on a FIFO or /dev/zero said "0 bytes (truncated?)"; it names the
