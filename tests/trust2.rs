@@ -196,6 +196,40 @@ fn cache_entries_that_are_fifos_or_devices_are_rebuilt() {
     assert!(fit().stdout.contains("cache hit"));
 }
 
+/// Item 6: a material.json of 64 terms naming one 4096² coefficient texture decoded every
+/// texture (12.5 GB) before the renderer's 8-term limit refused it. Counts, resolutions and
+/// texture headers are now checked before any pixel is decoded.
+#[test]
+fn a_material_of_many_terms_is_refused_before_any_texture_is_decoded() {
+    let dir = tempfile::tempdir().unwrap();
+    let mat = merl_material(dir.path());
+    let json_path = mat.join("material.json");
+    let original: Value = serde_json::from_str(&std::fs::read_to_string(&json_path).unwrap()).unwrap();
+    exr::prelude::write_rgb_file(mat.join("coef.exr"), 4096, 4096, |_, _| (0.5f32, 0.5f32, 0.5f32)).unwrap();
+    let mut term = original["terms"][0].clone();
+    term["coefficients"] = json!({ "res": 4096, "texture": "coef.exr" });
+    let mut many = original.clone();
+    many["kind"] = json!("material-map");
+    many["terms"] = Value::Array(vec![term.clone(); 64]);
+    std::fs::write(&json_path, serde_json::to_string(&many).unwrap()).unwrap();
+    let render = |mat: &Path| {
+        let out = dir.path().join("r.png");
+        run(dir.path(), &["render", s(mat), "--model", "sphere", "--size", "32x32", "--out", s(&out)], MINUTE)
+    };
+    let r = render(&mat);
+    assert_refused_small(&r, &["material.json: material has 64 terms; 1 to 8 are read"]);
+
+    // A texture whose header disagrees with its factor is refused from the header: the
+    // pixels after it are cut off, and never read.
+    let mut one = original.clone();
+    one["terms"][0]["coefficients"] = json!({ "res": 64, "texture": "coef.exr" });
+    one["kind"] = json!("material-map");
+    std::fs::write(&json_path, serde_json::to_string(&one).unwrap()).unwrap();
+    let bytes = std::fs::read(mat.join("coef.exr")).unwrap();
+    std::fs::write(mat.join("coef.exr"), &bytes[..bytes.len() / 2]).unwrap();
+    assert_refused_small(&render(&mat), &["coef.exr: texture is 4096x4096 but its coefficients need 64x64"]);
+}
+
 /// Smaller item: a texture name with a newline gave a two-line error; control characters
 /// in names are written as escapes.
 #[test]
