@@ -43,6 +43,7 @@ pub mod images;
 pub mod litsphere;
 pub mod live;
 pub mod material;
+pub mod notes;
 pub mod pipeline;
 pub mod render;
 pub mod sample;

@@ -11,6 +11,7 @@ use std::time::{Duration, Instant};
 
 use brdfpaint::brdf::Merl;
 use brdfpaint::images::env::Environment;
+use brdfpaint::scene::{frame, sphere_mesh, Preset, Scene};
 use serde_json::{json, Value};
 
 fn s(p: &Path) -> &str {
@@ -321,6 +322,64 @@ fn a_negative_environment_is_refused() {
     assert_eq!(env.pixels[8 + 3], [0.0, 2.0, 2.0]);
 }
 
+/// The JSON of a framed sphere scene (one camera node, one light node), buffers inline.
+fn sphere_scene(dir: &Path) -> Value {
+    let path = dir.join("base.gltf");
+    frame(vec![sphere_mesh(16, 8)], &Preset::default(), 1.0).write_gltf(&path).unwrap();
+    serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap()
+}
+
+fn write_json(path: &Path, json: &Value) -> PathBuf {
+    std::fs::write(path, serde_json::to_string(json).unwrap()).unwrap();
+    path.to_path_buf()
+}
+
+/// Item 8: one mesh instanced by 20,000 nodes took 65 s and 7.5 GB for a 32×32 render. The
+/// instanced triangles are counted from the accessors first, and refused over the limit.
+#[test]
+fn a_mesh_instanced_by_twenty_thousand_nodes_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut json = sphere_scene(dir.path());
+    let mesh_node = json["nodes"].as_array().unwrap().iter().position(|n| n.get("mesh").is_some()).unwrap();
+    let first = json["nodes"].as_array().unwrap().len();
+    for k in 0..20_000 {
+        json["nodes"].as_array_mut().unwrap().push(json!({ "mesh": 0, "translation": [k as f32 * 0.01, 0.0, 0.0] }));
+    }
+    let roots = json["scenes"][0]["nodes"].as_array_mut().unwrap();
+    roots.extend((first..first + 20_000).map(Value::from));
+    let path = write_json(&dir.path().join("instanced.gltf"), &json);
+    assert!(json["nodes"][mesh_node]["mesh"] == 0);
+    let triangles = sphere_mesh(16, 8).indices.len() / 3 * 20_001;
+    let r = run(dir.path(), &["sheet", "--scene", s(&path), "--size", "32x32", "--out", s(&dir.path().join("sheet"))], MINUTE);
+    let reason = format!("instanced.gltf: the scene's 20001 mesh nodes instance {triangles} triangles; at most 4194304 are read");
+    assert_refused_small(&r, &[&reason]);
+}
+
+/// Smaller item: a scene with two cameras or two lights silently used the first; a note on
+/// stderr now says which.
+#[test]
+fn a_second_camera_or_light_is_noted() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut json = sphere_scene(dir.path());
+    let nodes = json["nodes"].as_array().unwrap().clone();
+    let camera_node = nodes.iter().position(|n| n.get("camera").is_some()).unwrap();
+    let light_node = nodes.iter().position(|n| n.pointer("/extensions/KHR_lights_punctual").is_some()).unwrap();
+    for k in [camera_node, light_node] {
+        json["nodes"].as_array_mut().unwrap().push(nodes[k].clone());
+        let last = json["nodes"].as_array().unwrap().len() - 1;
+        json["scenes"][0]["nodes"].as_array_mut().unwrap().push(last.into());
+    }
+    let path = write_json(&dir.path().join("two.gltf"), &json);
+    let r = run(dir.path(), &["sheet", "--scene", s(&path), "--size", "32x32", "--out", s(&dir.path().join("sheet"))], MINUTE);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let name = |what: &str, k: usize| format!("{what} 0 at node {k} ('{what}')");
+    let expected = [
+        format!("note: {} has 2 cameras; {} is used (the first in node order), the others are ignored", path.display(), name("camera", camera_node)),
+        format!("note: {} has 2 lights; {} is used (the first in node order), the others are ignored", path.display(), name("light", light_node)),
+    ];
+    assert_eq!(r.stderr.lines().collect::<Vec<_>>(), expected);
+}
+
 /// Smaller item: `--merl` on a FIFO or /dev/zero said "0 bytes (truncated?)"; it names the
 /// file type, and nothing is read.
 #[test]
@@ -350,4 +409,101 @@ fn negative_lambda_and_erode_are_refused_by_value() {
     assert_one_line_error(&r, &["--erode -1: give 0 to 64 pixels"]);
     let r = run(dir.path(), &[&base[..], &["--erode", "65"]].concat(), MINUTE);
     assert_one_line_error(&r, &["--erode 65: give 0 to 64 pixels"]);
+}
+
+/// Smaller item: integers written as floats (`"mesh": 0.0`, `"count": 3.0`) failed to
+/// parse; the scene loads as the one written with integers.
+#[test]
+fn integers_written_as_floats_are_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = sphere_scene(dir.path());
+    fn floats(v: &mut Value) {
+        match v {
+            Value::Number(n) if n.is_u64() => *v = json!(n.as_u64().unwrap() as f64),
+            Value::Array(a) => a.iter_mut().for_each(floats),
+            Value::Object(o) => o.values_mut().for_each(floats),
+            _ => {}
+        }
+    }
+    let mut loose = json.clone();
+    floats(&mut loose);
+    let text = serde_json::to_string(&loose).unwrap();
+    assert!(text.contains("\"mesh\":0.0") && text.contains("\"componentType\":5126.0"), "{text}");
+    let a = Scene::load(write_json(&dir.path().join("ints.gltf"), &json)).unwrap();
+    let b = Scene::load(write_json(&dir.path().join("floats.gltf"), &loose)).unwrap();
+    assert_eq!(a.meshes[0].positions, b.meshes[0].positions);
+    assert_eq!(a.meshes[0].indices, b.meshes[0].indices);
+    assert_eq!(a.camera, b.camera);
+    assert_eq!(a.light, b.light);
+}
+
+/// Bytes of `values` little endian, padded to 4 bytes per element.
+fn packed<T: Copy, const N: usize>(values: &[[T; N]], to_le: impl Fn(T) -> Vec<u8>) -> Vec<u8> {
+    let mut out = Vec::new();
+    for v in values {
+        let mut e: Vec<u8> = v.iter().flat_map(|&c| to_le(c)).collect();
+        e.resize(e.len().div_ceil(4) * 4, 0);
+        out.extend(e);
+    }
+    out
+}
+
+/// Smaller item: KHR_mesh_quantization meshes (gltfpack's output: 16-bit positions scaled
+/// by their node, 8-bit normalized normals, 16-bit normalized texture coordinates) were
+/// refused; they load as the float mesh they quantize, within the quantization step.
+#[test]
+fn quantized_meshes_load_as_their_float_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = sphere_mesh(16, 8);
+    let uvs = mesh.uvs.clone().unwrap();
+    let step = mesh.positions.iter().map(|p| p.abs().max_element()).fold(0.0f32, f32::max) / 32767.0;
+    let positions: Vec<[i16; 3]> = mesh.positions.iter().map(|p| p.to_array().map(|c| (c / step).round() as i16)).collect();
+    let normals: Vec<[i8; 3]> = mesh.normals.iter().map(|n| n.to_array().map(|c| (c * 127.0).round() as i8)).collect();
+    let texcoords: Vec<[u16; 2]> = uvs.iter().map(|t| t.to_array().map(|c| (c * 65535.0).round() as u16)).collect();
+    let indices: Vec<u8> = mesh.indices.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect();
+    let parts = [
+        packed(&positions, |c: i16| c.to_le_bytes().to_vec()),
+        packed(&normals, |c: i8| c.to_le_bytes().to_vec()),
+        packed(&texcoords, |c: u16| c.to_le_bytes().to_vec()),
+        indices,
+    ];
+    let (mut bin, mut views) = (Vec::new(), Vec::new());
+    for (part, stride) in parts.iter().zip([Some(8), Some(4), Some(4), None]) {
+        let mut view = json!({ "buffer": 0, "byteOffset": bin.len(), "byteLength": part.len() });
+        if let Some(stride) = stride {
+            view["byteStride"] = json!(stride);
+        }
+        views.push(view);
+        bin.extend_from_slice(part);
+        bin.resize(bin.len().div_ceil(4) * 4, 0);
+    }
+    let n = positions.len();
+    let (lo, hi) = (positions.iter().fold([i16::MAX; 3], |a, p| [0, 1, 2].map(|k| a[k].min(p[k]))), positions.iter().fold([i16::MIN; 3], |a, p| [0, 1, 2].map(|k| a[k].max(p[k]))));
+    let doc = json!({
+        "asset": { "version": "2.0", "generator": "gltfpack-like" },
+        "extensionsUsed": ["KHR_mesh_quantization"], "extensionsRequired": ["KHR_mesh_quantization"],
+        "buffers": [{ "byteLength": bin.len(), "uri": format!("data:application/octet-stream;base64,{}", base64::encode(&bin)) }],
+        "bufferViews": views,
+        "accessors": [
+            { "bufferView": 0, "componentType": 5122, "count": n, "type": "VEC3", "min": lo, "max": hi },
+            { "bufferView": 1, "componentType": 5120, "normalized": true, "count": n, "type": "VEC3" },
+            { "bufferView": 2, "componentType": 5123, "normalized": true, "count": n, "type": "VEC2" },
+            { "bufferView": 3, "componentType": 5123, "count": mesh.indices.len(), "type": "SCALAR" },
+        ],
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2 }, "indices": 3 }] }],
+        "nodes": [{ "mesh": 0, "scale": [step, step, step] }],
+        "scenes": [{ "nodes": [0] }], "scene": 0,
+    });
+    let path = write_json(&dir.path().join("quantized.gltf"), &doc);
+    let loaded = Scene::load_model(&path).unwrap();
+    assert_eq!(loaded.len(), 1);
+    let q = &loaded[0];
+    assert_eq!(q.indices, mesh.indices);
+    let worst = |a: &[glam::Vec3], b: &[glam::Vec3]| a.iter().zip(b).map(|(x, y)| (*x - *y).abs().max_element()).fold(0.0f32, f32::max);
+    // Rounding moves a position by half a step, a normal by half of 1/127 per component
+    // before it is normalized again.
+    assert!(worst(&q.positions, &mesh.positions) <= 0.5 * step * 1.001, "{} vs step {step}", worst(&q.positions, &mesh.positions));
+    assert!(worst(&q.normals, &mesh.normals) < 1.0 / 127.0, "{}", worst(&q.normals, &mesh.normals));
+    let uv_error = q.uvs.as_ref().unwrap().iter().zip(&uvs).map(|(a, b)| (*a - *b).abs().max_element()).fold(0.0f32, f32::max);
+    assert!(uv_error <= 0.5 / 65535.0 * 1.001, "{uv_error}");
 }
