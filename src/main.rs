@@ -17,6 +17,6 @@ fn main() -> std::process::ExitCode {
             eprintln!("error: internal error (please report): {info}");
         }
     }));
-    brdfpaint::notes::set_handler(|note| eprintln!("note: {note}"));
+    brdfpaint::note::set_handler(|note| eprintln!("note: {note}"));
     cli::run()
 }

@@ -151,8 +151,9 @@ fn sheet_round_trips_its_scene_and_its_images_agree_with_the_geometry() {
     let mut names: Vec<String> =
         std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
     names.sort();
-    assert_eq!(names, ["mask.png", "outline.png", "page.png", "reference.png", "scene.gltf"]);
-    assert_eq!(listing(dir.path()).len(), 6, "no temporary files left: {:?}", listing(dir.path()));
+    // The five files and the record of what brdfpaint wrote (README, "File access and outputs").
+    assert_eq!(names, [".brdfpaint-owned", "mask.png", "outline.png", "page.png", "reference.png", "scene.gltf"]);
+    assert_eq!(listing(dir.path()).len(), 7, "no temporary files left: {:?}", listing(dir.path()));
     // page.png: the outline's black lines, opaque, on a transparent layer.
     let page = image::open(out.join("page.png")).unwrap().into_rgba8();
     let (_, _, outline) = png(&out.join("outline.png"));
@@ -430,7 +431,7 @@ fn sheet_over_an_earlier_sheet_keeps_other_files() {
     ok(&["sheet", "--model", "sphere", "--preset", "back", "--size", "40x40", "--out", s(&out)]);
     assert_eq!(std::fs::read(out.join("painting.png")).unwrap(), b"my painting");
     assert_ne!(std::fs::read(out.join("scene.gltf")).unwrap(), before, "the scene was replaced");
-    assert_eq!(listing(dir.path()).len(), 7, "{:?}", listing(dir.path()));
+    assert_eq!(listing(dir.path()).len(), 8, "{:?}", listing(dir.path()));
 }
 
 #[test]
@@ -516,6 +517,7 @@ fn turntable_and_light_sweep_write_n_frames_that_agree() {
     assert_eq!(
         names,
         [
+            ".brdfpaint-owned",
             "l-000.exr",
             "l-001.exr",
             "l-002.exr",

@@ -229,15 +229,15 @@ fn outputs_never_replace_user_data() {
     std::fs::write(mat.join("notes.txt"), "why this material").unwrap();
     std::fs::create_dir(mat.join("paintings")).unwrap();
     std::fs::write(mat.join("paintings/p.png"), "art").unwrap();
-    // A texture of an older, larger material is ours: it goes.
-    std::fs::write(mat.join("term3-factor0-light.exr"), "stale").unwrap();
+    // A file named like a table that brdfpaint did not write is the user's: it stays.
+    std::fs::write(mat.join("term3-factor0-light.exr"), "the user's").unwrap();
     let r = fit(&mat);
     assert_eq!(r.code, 0, "{}", r.stderr);
     assert!(r.stdout.contains("wrote"), "{}", r.stdout);
     Material::load(&mat).unwrap();
     assert_eq!(std::fs::read_to_string(mat.join("notes.txt")).unwrap(), "why this material");
     assert_eq!(std::fs::read_to_string(mat.join("paintings/p.png")).unwrap(), "art");
-    assert!(!mat.join("term3-factor0-light.exr").exists());
+    assert_eq!(std::fs::read_to_string(mat.join("term3-factor0-light.exr")).unwrap(), "the user's");
     assert!(brdfpaint::commit::temporaries(root.path()).is_empty());
 
     // An output that cannot be written is reported with the user's path, not a temporary.

@@ -10,9 +10,10 @@ use super::Failure;
 use brdfpaint::brdf::Merl;
 use brdfpaint::error::{Error, Result};
 use brdfpaint::factor::cache::{Cache, Outcome};
-use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::factor::{prepare, DifferenceChoice, Fit, Mapping, Pattern, Settings};
 use brdfpaint::litsphere;
+use brdfpaint::note::{Note, Remedy};
 use brdfpaint::material::{map, Kind, Material};
 use brdfpaint::pipeline::{self, Options};
 use brdfpaint::sample::{Erosion, Neighbours, SceneSampler};
@@ -230,8 +231,8 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
     let provenance =
         pipeline::provenance(vec![merl_path.display().to_string()], Some(fit.errors), pattern.len(), prepared.prepare_s, solve_s);
     let plain = Material::from_fit(settings, &fit, provenance.clone())?;
-    let material = Material::fit_based(&prepared, &pattern, &values, &fit, settings, args.mapping, args.base, false, provenance)?.unwrap_or(plain);
-    pipeline::save_material(&material, &args.out)?;
+    let material = brdfpaint::read::lobe::fit_based(&prepared, &pattern, &values, &fit, settings, args.mapping, args.base, false, provenance)?.unwrap_or(plain);
+    pipeline::save_material(&material, &args.out, &[merl_path])?;
     println!(
         "{} samples, {} unknowns: prepare {:.1} ms ({}), solve {:.2} ms",
         pattern.len(),
@@ -291,13 +292,14 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
         None => println!("light ({:.2}, {:.2}, {:.2}) as given", l.x, l.y, l.z),
     }
     let fitted = &lit.fitted;
-    for note in &fitted.material.provenance.notes {
-        println!("{note}");
+    for note in &fitted.notes {
+        say(note);
     }
     let views = std::slice::from_ref(&lit.view);
     // The scene goes into the material directory with it, in one commit.
-    let staged = fitted.stage(views, &args.out)?;
+    let mut staged = fitted.stage(views, &args.out)?;
     staged.write("scene.gltf", |p| lit.scene.write_gltf(p))?;
+    staged.keep_inputs([image]);
     staged.commit()?;
     let (report_path, scene_path) = (args.out.join("report.png"), args.out.join("scene.gltf"));
     let e = fitted.errors();
@@ -314,6 +316,24 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
         scene_path.display()
     );
     Ok(())
+}
+
+/// Prints a note, with the option that changes what it describes.
+fn say(note: &Note) {
+    let hint = note.remedy().map(|r| match r {
+        Remedy::KeepTones => "--keep-tones fits the tones as painted",
+        Remedy::KeepLight => "--keep-light uses the scene's as given",
+        Remedy::KeepStrokes => "--keep-strokes fits them as painted",
+        Remedy::Erode => "--erode sets the silhouette band",
+        Remedy::SecondView => "add one with --scene S2 --image P2",
+        Remedy::NoDifferenceFactor => "--theta-d off leaves it out",
+        Remedy::MaterialMap => "try --kind material-map",
+    });
+    let prefix = if note.is_warning() { "" } else { "note: " };
+    match hint {
+        Some(hint) => println!("{prefix}{note} ({hint})"),
+        None => println!("{prefix}{note}"),
+    }
 }
 
 /// One line on the material's analytic base, when it has one.
@@ -347,16 +367,16 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
     let mut sampler = SceneSampler::new()?;
     let pairs: Vec<(PathBuf, PathBuf)> = args.scene.iter().cloned().zip(args.image.iter().cloned()).collect();
     let mut loaded = pipeline::load_views(&mut sampler, &pairs, erosion)?;
-    loaded.read(&pipeline::Reading { smooth_tones: !args.keep_tones, register_light: !args.keep_light, repaint_strays: !args.keep_strokes }, opts.kind)?;
+    loaded.read(&brdfpaint::read::Reading { smooth_tones: !args.keep_tones, register_light: !args.keep_light, repaint_strays: !args.keep_strokes }, opts.kind)?;
     let pipeline::Loaded { views, notes, .. } = loaded;
     for note in &notes {
-        println!("note: {note}");
+        say(note);
     }
     let opts = &Options { base: args.base, ..opts.clone() };
     let mut fitted = pipeline::fit(&views, opts, Cache::user().as_ref())?;
     print_base(&fitted.material);
     // How the paintings were read goes into material.json too, before the fit's own notes.
-    fitted.material.provenance.notes.splice(0..0, notes.iter().cloned());
+    fitted.prepend_notes(&notes);
     if let Some((report, _)) = &fitted.map {
         let what = match opts.map.method {
             map::Method::Greedy => "terms on positive residuals",
@@ -366,11 +386,12 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
             println!("{} {what}: RMS {:.5}  relative {:.4}  max {:.4}", k + 1, e.rms, e.rms_relative, e.max);
         }
     }
-    for note in &fitted.material.provenance.notes[notes.len()..] {
-        println!("{note}");
+    for note in &fitted.notes[notes.len()..] {
+        say(note);
     }
     let per_view = fitted.view_errors(&views);
-    let report_path = fitted.save(&views, &args.out)?;
+    let inputs: Vec<&Path> = args.scene.iter().chain(&args.image).map(PathBuf::as_path).collect();
+    let report_path = fitted.save(&views, &args.out, &inputs)?;
 
     for (k, (view, e)) in views.iter().zip(&per_view).enumerate() {
         println!(

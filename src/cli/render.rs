@@ -294,13 +294,14 @@ pub(super) fn run(args: RenderArgs) -> std::result::Result<(), Failure> {
             .into());
         }
         if let Some(note) = note {
-            eprintln!("note: {name}: {note}");
+            eprintln!("note: {name}: {note} (--uv chooses the projection)");
         }
     }
 
-    let paths: Vec<PathBuf> = match orbit {
+    let sequence = orbit.map(|_| sequence_of(&args.out));
+    let paths: Vec<PathBuf> = match &sequence {
         None => vec![args.out.clone()],
-        Some(_) => (0..frames).map(|k| frame_path(&args.out, k, frames)).collect(),
+        Some(sequence) => (0..frames).map(|k| args.out.with_file_name(sequence.name(k, frames))).collect(),
     };
     let ctx = HeadlessContext::new()?;
     let mut renderer = Renderer::new(ctx.gl())?;
@@ -329,7 +330,10 @@ pub(super) fn run(args: RenderArgs) -> std::result::Result<(), Failure> {
 
     // Frames go to hidden temporary names and are committed together when all are written:
     // a sequence appears whole or not at all (brdfpaint::commit::StagedFiles).
-    let mut staged = brdfpaint::commit::StagedFiles::new();
+    let mut staged = match sequence {
+        None => brdfpaint::commit::StagedFiles::new(),
+        Some(sequence) => brdfpaint::commit::StagedFiles::sequence(sequence),
+    };
     for (k, path) in paths.iter().enumerate() {
         if let Some(orbit) = orbit {
             (gpu.camera, gpu.light) = orbit_frame(&scene.camera, &scene.light, centre, orbit, k, frames);
@@ -361,13 +365,11 @@ pub(super) fn run(args: RenderArgs) -> std::result::Result<(), Failure> {
     Ok(())
 }
 
-/// `R-007.png` for frame 7: the stem, a dash, the index zero-padded to at least 3 digits
-/// (more when there are more frames), the extension.
-pub(super) fn frame_path(out: &Path, k: usize, frames: usize) -> PathBuf {
-    let digits = (frames.saturating_sub(1)).to_string().len().max(3);
-    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    let ext = out.extension().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    out.with_file_name(format!("{stem}-{k:0digits$}.{ext}"))
+/// The frames of `R.png`: `R-007.png` for frame 7 (the index zero-padded to at least 3
+/// digits, more when there are more frames).
+fn sequence_of(out: &Path) -> brdfpaint::commit::Sequence {
+    let part = |s: Option<&std::ffi::OsStr>| s.map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    brdfpaint::commit::Sequence::new(&part(out.file_stem()), &part(out.extension()))
 }
 
 #[cfg(test)]
@@ -382,8 +384,9 @@ mod tests {
             assert!(parse_size(bad).is_err(), "{bad}");
         }
         assert!(check_pixels(4096, 4096).is_ok() && check_pixels(4097, 4096).is_err());
-        assert_eq!(frame_path(Path::new("out/r.png"), 7, 24), Path::new("out/r-007.png"));
-        assert_eq!(frame_path(Path::new("r.exr"), 12, 2000), Path::new("r-0012.exr"));
+        assert_eq!(sequence_of(Path::new("out/r.png")).name(7, 24), "r-007.png");
+        assert_eq!(sequence_of(Path::new("r.exr")).name(12, 2000), "r-0012.exr");
+        assert!(sequence_of(Path::new("r.exr")).contains("r-0012.exr") && !sequence_of(Path::new("r.exr")).contains("r-12.exr"));
     }
 
     #[test]

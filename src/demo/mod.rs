@@ -157,7 +157,7 @@ fn target(dir: &Path) -> Result<Target> {
     if crate::commit::output_dir_is_fresh(dir)? {
         return Ok(Target::Fresh);
     }
-    let marked = std::fs::read_to_string(dir.join("summary.txt")).is_ok_and(|s| s.starts_with(MARK));
+    let marked = crate::fsio::read_regular(&dir.join("summary.txt"), 1 << 20).is_ok_and(|s| s.starts_with(MARK.as_bytes()));
     if marked {
         Ok(Target::Demo)
     } else {
@@ -168,28 +168,20 @@ fn target(dir: &Path) -> Result<Target> {
     }
 }
 
-/// Replaces `dir` by the finished `tmp`.
-fn commit(tmp: &Path, dir: &Path, expected: Target) -> Result<()> {
+/// Runs the demo into `dir`, preparing through `cache` (`None`: prepare every time). The
+/// demo is staged beside `dir` and replaces it whole; the user's files in an earlier demo
+/// are kept ([`crate::commit::StagedDir`]).
+pub fn run(dir: &Path, cache: Option<&Cache>) -> Result<Report> {
+    let expected = target(dir)?;
+    let claim = crate::commit::Claim::new(&[], crate::commit::Legacy::Rewritten);
+    let staged = crate::commit::StagedDir::new(dir, claim)?;
+    let report = run_into(staged.path(), dir, cache)?;
     // The directory may have changed while the demo ran.
     if target(dir)? != expected {
         return Err(Error::input(format!("{} changed while the demo ran; not overwriting it", dir.display())));
     }
-    match expected {
-        Target::Fresh => crate::commit::move_into_fresh(tmp, dir),
-        Target::Demo => crate::commit::swap_dir(tmp, dir),
-    }
-}
-
-/// Runs the demo into `dir`, preparing through `cache` (`None`: prepare every time).
-pub fn run(dir: &Path, cache: Option<&Cache>) -> Result<Report> {
-    let expected = target(dir)?;
-    let tmp = crate::commit::temp_sibling(dir);
-    std::fs::create_dir_all(&tmp).map_err(|e| Error::io(&tmp, e))?;
-    let result = run_into(&tmp, dir, cache).and_then(|report| commit(&tmp, dir, expected).map(|()| report));
-    if tmp.exists() {
-        let _ = std::fs::remove_dir_all(&tmp);
-    }
-    result
+    staged.commit()?;
+    Ok(report)
 }
 
 /// Timings of the stages, seconds.
@@ -423,13 +415,13 @@ fn fit_material(
         spec.paintings.iter().map(|p| (scene_paths[p.view].clone(), tmp.join("paintings").join(p.file))).collect();
     let mut loaded = pipeline::load_views(sampler, &pairs, Erosion::default())?;
     // The analytic base as `brdfpaint fit` chooses it (a material map fits none).
-    let mut opts = pipeline::Options { settings: settings.clone(), base: crate::factor::base::BaseChoice::Auto, ..Default::default() };
+    let mut opts = pipeline::Options { settings: settings.clone(), base: crate::read::lobe::BaseChoice::Auto, ..Default::default() };
     if let FitKind::MaterialMap { terms } = spec.kind {
         opts.kind = Kind::MaterialMap;
         opts.map.terms = terms;
     }
     // Read as `brdfpaint fit` reads paintings (tones, the painter's light).
-    loaded.read(&pipeline::Reading::default(), opts.kind)?;
+    loaded.read(&crate::read::Reading::default(), opts.kind)?;
     let mut views = loaded.views;
     // Name the files as they are in DIR, not in the temporary directory.
     for (view, p) in views.iter_mut().zip(&spec.paintings) {
@@ -437,7 +429,7 @@ fn fit_material(
         view.source = format!("{}/scene.gltf", paintings::views()[p.view].dir);
     }
     let fitted = pipeline::fit(&views, &opts, cache)?;
-    fitted.save(&views, &tmp.join("materials").join(spec.name))?;
+    fitted.save(&views, &tmp.join("materials").join(spec.name), &[])?;
     let kind = match fitted.material.kind {
         Kind::MaterialMap | Kind::Hybrid => format!("map/{}", fitted.material.terms.len()),
         Kind::Uniform | Kind::FourFactor => "uniform".to_string(),
@@ -551,7 +543,7 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
             let _ = writeln!(s, "  (judged where the paintings saw the surface: the back of the sphere was never painted)");
         }
     }
-    let _ = writeln!(s, "The MatCap is fitted as a lit sphere (fit --lit-sphere): its light estimated from the picture.");
+    let _ = writeln!(s, "The MatCap is fitted as a lit sphere: its light estimated from the picture.");
     let models: Vec<String> = retargets()
         .iter()
         .map(|r| format!("{} ({})", r.model, r.preset.description.trim_start_matches("light ")))

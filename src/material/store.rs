@@ -11,16 +11,15 @@
 //! killed save leaves the previous material untouched, and the user's other files in the
 //! directory are kept.
 
-use std::collections::HashSet;
-use std::ffi::{OsStr, OsString};
+use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
 use super::{Coefficients, Factor, Kind, Material, Provenance, Term};
-use crate::commit::StagedDir;
+use crate::commit::{Claim, Legacy, StagedDir};
 use crate::error::{Error, Result};
-use crate::factor::base::Base;
+use crate::brdf::lobe::Base;
 use crate::factor::{FactorSpec, LogMap};
 use crate::images::Rgb;
 
@@ -93,12 +92,13 @@ impl Material {
     ///
     /// `dir` must be missing, an empty directory or a material directory; anything else (a
     /// file, a link, a directory of other things) is refused with one line. In a material
-    /// directory only the tool's files are replaced (material.json, its textures,
-    /// report.png); the user's other files there (notes, paintings) are kept.
+    /// directory only the files the tool recorded writing are replaced ([`crate::commit::owned`]);
+    /// the user's other files there (notes, paintings, a scene) are kept, and a user's file
+    /// at a name the new material writes stops the save with one line.
     pub fn stage(&self, dir: &Path) -> Result<StagedDir> {
         self.validate(dir)?;
-        let ours = check_target(dir)?;
-        let staged = StagedDir::new(dir, Box::new(move |name| ours.contains(name) || is_texture_name(name)))?;
+        let legacy = check_target(dir)?;
+        let staged = StagedDir::new(dir, Claim::new(&["material.json", "report.png"], legacy))?;
         staged.fill(|tmp| self.write_into(tmp))?;
         Ok(staged)
     }
@@ -292,22 +292,24 @@ fn check_texture_size(path: &Path, want: (usize, usize), what: &str) -> Result<(
     Ok(())
 }
 
-/// Whether a file name is one the tool writes for a term's table or coefficients
-/// (`term{k}-…exr`).
-fn is_texture_name(name: &OsStr) -> bool {
-    let name = name.to_string_lossy();
-    name.strip_prefix("term")
-        .and_then(|rest| rest.split_once('-'))
-        .is_some_and(|(k, _)| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
-        && name.ends_with(".exr")
+/// Whether a file name is one the tool writes for a term's table or coefficients:
+/// `term{k}-factor{j}-{input}.exr` or `term{k}-coefficients.exr`.
+fn is_texture_name(name: &str) -> bool {
+    let Some((k, rest)) = name.strip_prefix("term").and_then(|r| r.split_once('-')) else { return false };
+    let number = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    let table = rest.strip_prefix("factor").and_then(|r| r.split_once('-')).is_some_and(|(j, input)| {
+        number(j) && input.strip_suffix(".exr").is_some_and(|i| !i.is_empty() && i.bytes().all(|b| b.is_ascii_lowercase() || b == b'-'))
+    });
+    number(k) && (table || rest == "coefficients.exr")
 }
 
-/// Checks that a material may be written at `dir`, and returns the names of the files there
-/// that are the tool's own (material.json, the textures it names, report.png, and the
-/// scene.gltf a lit-sphere fit writes), which a new material replaces. Files, links and
-/// directories of other things are refused.
-fn check_target(dir: &Path) -> Result<HashSet<OsString>> {
-    let mut ours: HashSet<OsString> = ["material.json", "report.png", "scene.gltf"].iter().map(OsString::from).collect();
+/// Checks that a material may be written at `dir`, and returns what a directory without an
+/// ownership record may have replaced besides material.json and report.png: the textures the
+/// old material.json names, where they have the names the tool gives its textures (so a
+/// crafted material.json cannot claim a user's file). Files, links and directories of other
+/// things are refused.
+fn check_target(dir: &Path) -> Result<Legacy> {
+    let mut ours = BTreeSet::new();
     let refuse = || {
         Err(Error::input(format!(
             "{} exists and is not a material directory; not overwriting it",
@@ -316,27 +318,41 @@ fn check_target(dir: &Path) -> Result<HashSet<OsString>> {
     };
     let meta = match std::fs::symlink_metadata(dir) {
         Ok(m) => m,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(ours),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Legacy::Paths(ours)),
         Err(e) => return Err(Error::io(dir, e)),
     };
     if !meta.is_dir() {
         return refuse();
     }
     if crate::commit::output_dir_is_fresh(dir)? {
-        return Ok(ours);
+        return Ok(Legacy::Paths(ours));
     }
     let json = dir.join("material.json");
     if !std::fs::symlink_metadata(&json).is_ok_and(|m| m.is_file()) {
         return refuse();
     }
-    // The textures the old material names are ours too, whatever their names.
     if let Ok(text) = crate::fsio::read_regular(&json, MAX_JSON_BYTES) {
         if let Ok(file) = serde_json::from_slice::<FileMaterial>(&text) {
             for t in file.terms {
-                ours.extend(t.factors.into_iter().map(|f| OsString::from(f.texture)));
-                ours.extend(t.coefficients.map(|c| OsString::from(c.texture)));
+                let names = t.factors.into_iter().map(|f| f.texture).chain(t.coefficients.map(|c| c.texture));
+                ours.extend(names.filter(|n| is_texture_name(n)));
             }
         }
     }
-    Ok(ours)
+    Ok(Legacy::Paths(ours))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn texture_names_are_the_tools_own_pattern_only() {
+        for ours in ["term0-factor0-l.exr", "term12-factor3-half-difference.exr", "term1-coefficients.exr"] {
+            assert!(is_texture_name(ours), "{ours}");
+        }
+        for theirs in ["term1-sketches.exr", "notes.txt", "term-factor0-l.exr", "term0-factor0-.exr", "term0-factor0-l.png", "term0-factor0-../x.exr", "paintings"] {
+            assert!(!is_texture_name(theirs), "{theirs}");
+        }
+    }
 }

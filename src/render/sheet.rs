@@ -131,7 +131,9 @@ impl Sheet {
     pub fn save(&self, scene: &Scene, dir: &Path) -> Result<()> {
         Target::of(dir)?;
         // The four files appear together in one atomic step, the user's other files kept.
-        let staged = crate::commit::StagedDir::new(dir, Box::new(|name| name == PAGE_FILE || SHEET_FILES.iter().any(|f| name == *f)))?;
+        let fixed: Vec<&str> = SHEET_FILES.iter().chain([&PAGE_FILE]).copied().collect();
+        let claim = crate::commit::Claim::new(&fixed, crate::commit::Legacy::Paths(Default::default()));
+        let staged = crate::commit::StagedDir::new(dir, claim)?;
         staged.fill(|tmp| self.write_into(scene, tmp))?;
         staged.commit()
     }

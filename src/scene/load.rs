@@ -22,6 +22,7 @@ use super::accessor::{check_accessor, read_floats};
 use super::sources::{check_before_validation, check_extension, check_images, read_buffers};
 use super::{Camera, CpuMesh, Light, Projection, Scene};
 use crate::error::{Error, Result};
+use crate::note::Note;
 
 impl Scene {
     /// Loads a glTF 2.0 scene (.gltf or .glb): every triangle primitive of the default scene
@@ -44,25 +45,25 @@ impl Scene {
     /// a scene without a mesh, a camera or a light.
     ///
     /// A scene with more than one camera or light says which one it uses in a note
-    /// ([`crate::notes`]; [`Scene::load_with_notes`] returns them instead).
+    /// told ([`crate::note::tell`]; [`Scene::load_with_notes`] returns them instead).
     pub fn load(path: impl AsRef<Path>) -> Result<Scene> {
         let (scene, notes) = Scene::load_with_notes(path)?;
-        notes.iter().for_each(|n| crate::notes::note(n));
+        notes.into_iter().for_each(crate::note::tell);
         Ok(scene)
     }
 
     /// [`Scene::load`], with its notes returned rather than sent.
-    pub fn load_with_notes(path: impl AsRef<Path>) -> Result<(Scene, Vec<String>)> {
+    pub fn load_with_notes(path: impl AsRef<Path>) -> Result<(Scene, Vec<Note>)> {
         let path = path.as_ref();
         let loaded = Loaded::read(path)?;
         let notes = loaded.notes(path);
         let camera = loaded.camera.ok_or_else(|| {
-            Error::format(path, "the scene has no camera (add a camera node, or use --model with --preset)")
+            Error::format(path, "the scene has no camera (add a camera node, or frame the model in one of the preset views instead)")
         })?;
         let light = loaded.light.ok_or_else(|| {
             Error::format(
                 path,
-                "the scene has no light (add a KHR_lights_punctual directional or point light node, or use --model with --preset)",
+                "the scene has no light (add a KHR_lights_punctual directional or point light node, or frame the model in one of the preset views instead)",
             )
         })?;
         Ok((Scene { meshes: loaded.meshes, camera, light }, notes))
@@ -105,19 +106,12 @@ fn extension_is_read(name: &str) -> bool {
 
 impl Loaded {
     /// A note for each of camera and light when the scene has several: which one is used.
-    fn notes(&self, path: &Path) -> Vec<String> {
-        let mut notes = Vec::new();
-        for (what, nodes) in [("cameras", &self.cameras), ("lights", &self.lights)] {
-            if nodes.len() > 1 {
-                notes.push(format!(
-                    "{} has {} {what}; {} is used (the first in node order), the others are ignored",
-                    path.display(),
-                    nodes.len(),
-                    nodes[0]
-                ));
-            }
-        }
-        notes
+    fn notes(&self, path: &Path) -> Vec<Note> {
+        [("cameras", &self.cameras), ("lights", &self.lights)]
+            .into_iter()
+            .filter(|(_, nodes)| nodes.len() > 1)
+            .map(|(what, nodes)| Note::FirstOfMany { scene: path.display().to_string(), what, count: nodes.len(), used: nodes[0].to_string() })
+            .collect()
     }
 
     fn read(path: &Path) -> Result<Loaded> {

@@ -6,19 +6,23 @@
 //! - [`held_out_error`]: a material against the truth at the G-buffer queries of held-out
 //!   views ([`fidelity`] paints and judges the analytic suite through the real path;
 //!   [`suite`](mod@suite) judges the wide suite on analytic sphere views, rim light included);
+//! - [`rendered_error`]: a material against rendered views, where the truth is a picture
+//!   ([`rendered`]: the suite another renderer made);
 //! - [`bench`](mod@bench): `brdfpaint bench`, the thesis's tables and the shader frame times;
 //!   [`measure_stroke_to_frame`]: the live painting loop, stroke to frame.
 
 pub mod bench;
 pub mod faults;
 pub mod fidelity;
+pub mod painted;
+pub mod rendered;
 mod stroke;
 pub mod suite;
 
 use crate::brdf::{Reflectance, SphereView};
 use crate::error::Result;
 use crate::factor::Query;
-use crate::sample::{Erosion, PaintedView};
+use crate::sample::{Erosion, PaintedView, Samples};
 
 pub use fidelity::StudyView;
 pub use stroke::{measure_stroke_to_frame, StrokeTiming};
@@ -71,6 +75,27 @@ pub fn held_out_error(
         }
     }
     Ok(relative_rms(pairs))
+}
+
+/// [`relative_rms`] of `material` against each of `views`, where the truth is the picture:
+/// at every sample (a usable, painted pixel), the material's shading against the pixel
+/// divided by the light (S = BRDF × cos θ_l, DESIGN.md), as [`Samples::gather`] reads it.
+pub fn rendered_error(material: &dyn Reflectance, views: &[PaintedView]) -> Result<Vec<f64>> {
+    views
+        .iter()
+        .map(|v| {
+            let s = Samples::gather(std::slice::from_ref(v))?;
+            Ok(relative_rms(s.pattern.queries.iter().zip(&s.values).map(|(q, &t)| (material.shading(q), t))))
+        })
+        .collect()
+}
+
+/// [`held_out_error`] over all of `held_out` together, and the largest over each view
+/// alone (the worst held-out view): the two figures the painting studies report.
+pub fn held_out_and_worst(material: &dyn Reflectance, truth: &dyn Reflectance, held_out: &[StudyView]) -> Result<(f64, f64)> {
+    let all = held_out_error(material, truth, held_out, None)?;
+    let worst = held_out.chunks(1).map(|v| held_out_error(material, truth, v, None)).collect::<Result<Vec<f64>>>()?;
+    Ok((all, worst.into_iter().fold(0.0, f64::max)))
 }
 
 /// Where on the surface paintings have samples: cells of a 64² uv grid.

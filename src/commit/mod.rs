@@ -1,27 +1,39 @@
 //! Whole-or-nothing outputs: a file, a directory (a material, a sheet, a demo) or a set of
 //! files (a turntable sequence) appears complete or not at all, even if the process is
-//! killed at any instruction.
+//! killed at any instruction; and no user's file is ever removed, renamed or overwritten on
+//! the way ([`owned`]: only files the tool recorded writing, unchanged since, are replaced).
 //!
 //! Everything is first written under a hidden temporary name beside the target,
 //! `.brdfpaint-{pid}-{n}-{role}-{name}`, then committed:
 //! - a file, or a directory where nothing is, by one `rename`;
 //! - a directory over an existing one by one `renameat2(RENAME_EXCHANGE)` (Linux), which
-//!   swaps the two atomically; the old one, now under the temporary name, is then removed.
-//!   Where the file system cannot exchange, the old directory is first renamed aside (role
-//!   `old`), and a run killed between the two renames is repaired by the next one, which
-//!   puts it back;
-//! - a set of files in one directory by a journal (role `seq`) written before the first
-//!   rename: a run killed while renaming is completed by the next one.
+//!   swaps the two atomically; the old one, now under the temporary name, is then removed,
+//!   after the user's entries in it were linked into the new one ([`StagedDir`]). Where the
+//!   file system cannot exchange, the old directory is first renamed aside (role `old`), and
+//!   a run killed between the two renames is repaired by the next one, which puts it back;
+//! - a set of files in one directory by a sealed journal (role `seq`) written before the
+//!   first rename: a run killed while renaming is completed by the next one ([`StagedFiles`]).
 //!
 //! Every run sweeps the directory it writes into ([`sweep_stale`]): temporary names of
 //! processes that no longer run are removed, repaired or completed. A temporary name of a
-//! live process is never touched.
+//! live process is never touched, and the sweep touches no name but the temporaries': a
+//! journal is followed only if the tool sealed it, and only to rename a temporary to the name
+//! it stands for.
 
 use std::ffi::{OsStr, OsString};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
+
+mod dir;
+mod files;
+pub mod owned;
+mod seal;
+
+pub use dir::StagedDir;
+pub use files::{Sequence, StagedFiles};
+pub use owned::{Claim, Legacy, Record};
 
 /// Every temporary name starts with this.
 const PREFIX: &str = ".brdfpaint-";
@@ -108,25 +120,23 @@ fn alive(pid: u32) -> bool {
 /// Best effort: what cannot be cleaned now is left for a later run.
 pub fn sweep_stale(dir: &Path) {
     let Ok(entries) = std::fs::read_dir(dir) else { return };
-    let mut stale: Vec<(Role, String, PathBuf)> = entries
+    let mut stale: Vec<(u32, Role, String, PathBuf)> = entries
         .flatten()
         .filter_map(|e| {
             let (pid, role, target) = parse_temp(&e.file_name())?;
-            (!alive(pid)).then(|| (role, target, e.path()))
+            (!alive(pid)).then(|| (pid, role, target, e.path()))
         })
         .collect();
     // Journals first (they name `new` temporaries to complete), then directories moved aside
     // (to put back), then the rest.
-    stale.sort_by_key(|(role, _, _)| match role {
+    stale.sort_by_key(|(_, role, _, _)| match role {
         Role::Seq => 0,
         Role::Old => 1,
         Role::New => 2,
     });
-    for (role, target, path) in stale {
+    for (pid, role, target, path) in stale {
         match role {
-            Role::Seq => {
-                complete_journal(dir, &path);
-            }
+            Role::Seq => files::complete_journal(dir, &path, pid),
             Role::Old => {
                 let target = dir.join(&target);
                 if std::fs::symlink_metadata(&target).is_err() {
@@ -269,18 +279,6 @@ pub fn output_dir_is_fresh(dir: &Path) -> Result<bool> {
     Ok(std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?.next().is_none())
 }
 
-/// Puts the finished directory `tmp` (a sibling) at `dir`, which is missing or an empty
-/// directory (checked by the caller): one rename, which replaces an empty directory.
-pub fn move_into_fresh(tmp: &Path, dir: &Path) -> Result<()> {
-    replace_dir(tmp, dir)
-}
-
-/// Replaces the directory `dir` by the finished directory `tmp` (a sibling, same file
-/// system) atomically ([`replace_dir`]).
-pub fn swap_dir(tmp: &Path, dir: &Path) -> Result<()> {
-    replace_dir(tmp, dir)
-}
-
 /// An error about a temporary path, told about the path it stands for.
 pub fn retarget_error(e: Error, tmp: &Path, path: &Path) -> Error {
     let swap = |s: String| s.replace(&tmp.display().to_string(), &path.display().to_string());
@@ -291,214 +289,6 @@ pub fn retarget_error(e: Error, tmp: &Path, path: &Path) -> Error {
         Error::Numeric(m) => Error::Numeric(swap(m)),
         Error::Gl(m) => Error::Gl(swap(m)),
     }
-}
-
-/// Which entries of an existing target directory are the tool's own (replaced by the
-/// commit); all others are the user's and are kept.
-pub type Ours = Box<dyn Fn(&OsStr) -> bool>;
-
-/// A directory being written under a temporary name beside its target, committed whole
-/// ([`StagedDir::commit`]) or removed when dropped uncommitted.
-pub struct StagedDir {
-    tmp: PathBuf,
-    target: PathBuf,
-    ours: Ours,
-    committed: bool,
-}
-
-impl StagedDir {
-    /// Starts a directory for `target` (its parent is created if missing). At commit, the
-    /// entries of an existing `target` for which `ours` is false are kept.
-    pub fn new(target: &Path, ours: Ours) -> Result<StagedDir> {
-        let parent = parent_of(target);
-        std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
-        let tmp = temp_sibling(target);
-        std::fs::create_dir(&tmp).map_err(|e| Error::io(target, e))?;
-        Ok(StagedDir { tmp, target: target.to_path_buf(), ours, committed: false })
-    }
-
-    /// The temporary directory to write into.
-    pub fn path(&self) -> &Path {
-        &self.tmp
-    }
-
-    /// The directory it will become.
-    pub fn target(&self) -> &Path {
-        &self.target
-    }
-
-    /// Writes the file `name` with `write` (given the temporary path); errors name the file
-    /// in the target directory, not the temporary one.
-    pub fn write(&self, name: &str, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-        write(&self.tmp.join(name)).map_err(|e| retarget_error(e, &self.tmp, &self.target))
-    }
-
-    /// Writes into the staged directory with `write` (given its temporary path); errors name
-    /// the target directory, not the temporary one.
-    pub fn fill(&self, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-        write(&self.tmp).map_err(|e| retarget_error(e, &self.tmp, &self.target))
-    }
-
-    /// Replaces `target` by the staged directory in one atomic step, carrying over the
-    /// user's entries of the old one (hard links, so nothing is copied).
-    pub fn commit(mut self) -> Result<()> {
-        self.keep_users_entries()?;
-        replace_dir(&self.tmp, &self.target)?;
-        self.committed = true;
-        Ok(())
-    }
-
-    /// Links every entry of the existing target that is not ours, and not already staged,
-    /// into the staged directory, so it survives the exchange.
-    fn keep_users_entries(&self) -> Result<()> {
-        let Ok(entries) = std::fs::read_dir(&self.target) else { return Ok(()) };
-        for entry in entries {
-            let entry = entry.map_err(|e| Error::io(&self.target, e))?;
-            let name = entry.file_name();
-            if (self.ours)(&name) || parse_temp(&name).is_some() {
-                continue;
-            }
-            let to = self.tmp.join(&name);
-            if std::fs::symlink_metadata(&to).is_ok() {
-                continue;
-            }
-            link_tree(&entry.path(), &to).map_err(|e| Error::io(entry.path(), e))?;
-        }
-        Ok(())
-    }
-}
-
-impl Drop for StagedDir {
-    fn drop(&mut self) {
-        if !self.committed {
-            remove_any(&self.tmp);
-        }
-    }
-}
-
-/// Recreates `from` at `to`: files as hard links (a copy where linking fails), directories
-/// entry by entry, symbolic links as links.
-fn link_tree(from: &Path, to: &Path) -> std::io::Result<()> {
-    let meta = std::fs::symlink_metadata(from)?;
-    if meta.is_dir() {
-        std::fs::create_dir(to)?;
-        for entry in std::fs::read_dir(from)? {
-            let entry = entry?;
-            link_tree(&entry.path(), &to.join(entry.file_name()))?;
-        }
-        Ok(())
-    } else if meta.file_type().is_symlink() {
-        #[cfg(unix)]
-        {
-            std::os::unix::fs::symlink(std::fs::read_link(from)?, to)
-        }
-        #[cfg(not(unix))]
-        {
-            std::fs::copy(from, to).map(|_| ())
-        }
-    } else if std::fs::hard_link(from, to).is_ok() {
-        Ok(())
-    } else {
-        std::fs::copy(from, to).map(|_| ())
-    }
-}
-
-/// A set of files written under temporary names beside their targets (all in one
-/// directory), renamed into place together by [`StagedFiles::commit`] or removed when dropped
-/// uncommitted.
-#[derive(Default)]
-pub struct StagedFiles {
-    files: Vec<(PathBuf, PathBuf)>,
-    committed: bool,
-}
-
-impl StagedFiles {
-    pub fn new() -> StagedFiles {
-        StagedFiles::default()
-    }
-
-    /// Writes `target`'s content with `write` (given the temporary path); errors name
-    /// `target`. Every target must be in the same directory as the first.
-    pub fn add(&mut self, target: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-        if let Some((_, first)) = self.files.first() {
-            if parent_of(first) != parent_of(target) {
-                return Err(Error::input(format!(
-                    "{}: a set of outputs must share one directory ({})",
-                    target.display(),
-                    parent_of(first).display()
-                )));
-            }
-        }
-        // One sweep of the directory per set: a sequence of thousands of frames must not
-        // list its directory once per frame.
-        let tmp = if self.files.is_empty() { temp_sibling(target) } else { temp_path(target, Role::New) };
-        self.files.push((tmp.clone(), target.to_path_buf()));
-        write(&tmp).map_err(|e| retarget_error(e, &tmp, target))
-    }
-
-    /// Renames every file into place. One file is one rename; several are first listed in a
-    /// journal, so that a run killed half-way is completed by the next one (module docs).
-    pub fn commit(mut self) -> Result<()> {
-        let Some((_, first)) = self.files.first() else { return Ok(()) };
-        let dir = parent_of(first).to_path_buf();
-        let journal = if self.files.len() > 1 { Some(self.write_journal(&dir)?) } else { None };
-        for (tmp, target) in &self.files {
-            if let Err(e) = std::fs::rename(tmp, target) {
-                // Nothing can be rolled back (the old files are gone): finish what can be
-                // finished by the next sweep, and say which file failed.
-                return Err(Error::io(target, e));
-            }
-        }
-        sync_dir(&dir);
-        if let Some(journal) = journal {
-            let _ = std::fs::remove_file(journal);
-        }
-        self.committed = true;
-        Ok(())
-    }
-
-    /// Writes the journal (pairs of temporary and target names, one pair a line) under a
-    /// temporary name and renames it to its `seq` name, so it is whole when it exists.
-    fn write_journal(&self, dir: &Path) -> Result<PathBuf> {
-        let mut text = String::new();
-        for (tmp, target) in &self.files {
-            let name = |p: &Path| p.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-            text.push_str(&format!("{}\t{}\n", name(tmp), name(target)));
-        }
-        let (_, first) = &self.files[0];
-        let journal = temp_path(first, Role::Seq);
-        write_atomic(&journal, text.as_bytes()).map_err(|e| retarget_error(e, &journal, first))?;
-        sync_dir(dir);
-        Ok(journal)
-    }
-}
-
-impl Drop for StagedFiles {
-    fn drop(&mut self) {
-        if !self.committed {
-            for (tmp, _) in &self.files {
-                let _ = std::fs::remove_file(tmp);
-            }
-        }
-    }
-}
-
-/// Completes the renames a journal lists (those whose temporary still exists), then
-/// removes it.
-fn complete_journal(dir: &Path, journal: &Path) {
-    let Ok(text) = std::fs::read_to_string(journal) else { return };
-    for line in text.lines() {
-        let Some((tmp, target)) = line.split_once('\t') else { continue };
-        // Names only: a journal never points outside its directory.
-        if [tmp, target].iter().any(|n| n.contains('/') || *n == ".." || n.is_empty()) {
-            continue;
-        }
-        let tmp = dir.join(tmp);
-        if tmp.exists() && std::fs::rename(&tmp, dir.join(target)).is_err() {
-            return;
-        }
-    }
-    let _ = std::fs::remove_file(journal);
 }
 
 /// The names of the temporaries in `dir` (for tests and checks: after a successful run,
@@ -546,7 +336,7 @@ mod tests {
         std::fs::write(d.join(format!(".brdfpaint-{dead}-3-new-r-001.png")), "new1").unwrap();
         std::fs::write(
             d.join(format!(".brdfpaint-{dead}-4-seq-r-000.png")),
-            format!(".brdfpaint-{dead}-2-new-r-000.png\tr-000.png\n.brdfpaint-{dead}-3-new-r-001.png\tr-001.png\n"),
+            seal::close(&format!(".brdfpaint-{dead}-2-new-r-000.png\tr-000.png\n.brdfpaint-{dead}-3-new-r-001.png\tr-001.png\n")),
         )
         .unwrap();
         // A live process's temporary: untouched.
@@ -559,34 +349,30 @@ mod tests {
     }
 
     #[test]
-    fn a_staged_directory_replaces_ours_and_keeps_the_users_files() {
+    fn a_planted_journal_moves_no_users_file() {
         let root = tempfile::tempdir().unwrap();
-        let target = root.path().join("mat");
-        std::fs::create_dir(&target).unwrap();
-        std::fs::write(target.join("material.json"), "old").unwrap();
-        std::fs::write(target.join("notes.txt"), "mine").unwrap();
-        std::fs::create_dir(target.join("paintings")).unwrap();
-        std::fs::write(target.join("paintings/p.png"), "art").unwrap();
-        let staged = StagedDir::new(&target, Box::new(|n| n == "material.json")).unwrap();
-        staged.write("material.json", |p| write_atomic(p, b"new")).unwrap();
-        staged.commit().unwrap();
-        assert_eq!(std::fs::read_to_string(target.join("material.json")).unwrap(), "new");
-        assert_eq!(std::fs::read_to_string(target.join("notes.txt")).unwrap(), "mine");
-        assert_eq!(std::fs::read_to_string(target.join("paintings/p.png")).unwrap(), "art");
-        assert!(temporaries(root.path()).is_empty());
-        // Dropped uncommitted: nothing is left.
-        let staged = StagedDir::new(&target, Box::new(|_| true)).unwrap();
-        staged.write("material.json", |p| write_atomic(p, b"newer")).unwrap();
-        drop(staged);
-        assert!(temporaries(root.path()).is_empty());
-        assert_eq!(std::fs::read_to_string(target.join("material.json")).unwrap(), "new");
+        let d = root.path();
+        let dead = dead_pid();
+        std::fs::write(d.join("precious.txt"), "precious").unwrap();
+        std::fs::write(d.join("other.txt"), "other").unwrap();
+        // Unsealed: ignored (and removed, as a temporary of a dead process).
+        std::fs::write(d.join(format!(".brdfpaint-{dead}-0-seq-x")), "precious.txt\tother.txt\n").unwrap();
+        // Sealed (as if copied from a journal of the tool's), but naming user files: the
+        // pairs that are not a temporary of that process renamed to its own name are skipped.
+        let forged = format!("precious.txt\tother.txt\n.brdfpaint-{dead}-9-new-other.txt\tprecious.txt\n");
+        std::fs::write(d.join(format!(".brdfpaint-{dead}-1-seq-y")), seal::close(&forged)).unwrap();
+        std::fs::write(d.join(format!(".brdfpaint-{dead}-9-new-other.txt")), "planted").unwrap();
+        sweep_stale(d);
+        assert_eq!(std::fs::read_to_string(d.join("precious.txt")).unwrap(), "precious");
+        assert_eq!(std::fs::read_to_string(d.join("other.txt")).unwrap(), "other");
+        assert!(temporaries(d).is_empty());
     }
 
     #[test]
     fn errors_name_the_target_not_the_temporary() {
         let root = tempfile::tempdir().unwrap();
         let target = root.path().join("out");
-        let staged = StagedDir::new(&target, Box::new(|_| true)).unwrap();
+        let staged = StagedDir::new(&target, Claim::new(&[], Legacy::Rewritten)).unwrap();
         let e = staged.write("sub/x.png", |p| write_atomic(p, b"x")).unwrap_err().to_string();
         assert!(e.contains(&target.join("sub").display().to_string()) && !e.contains(".brdfpaint-"), "{e}");
     }
