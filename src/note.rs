@@ -1,8 +1,29 @@
 //! What the library tells a user about a fit, one line each. Notes are typed: the command
 //! line adds the option that changes what a note describes ([`Note::remedy`]), the viewer,
 //! which has no options, shows the line alone, and a material's provenance keeps the line.
+//!
+//! Loaders deep below a fit (a scene read by a renderer) have no list to return notes in:
+//! they [`tell`] the handler a program installs ([`set_handler`]); without one they are
+//! dropped.
 
 use std::fmt;
+use std::sync::OnceLock;
+
+use crate::error::one_line;
+
+static HANDLER: OnceLock<fn(&Note)> = OnceLock::new();
+
+/// Sends every note told later to `handler` (once per process; a second call is ignored).
+pub fn set_handler(handler: fn(&Note)) {
+    let _ = HANDLER.set(handler);
+}
+
+/// Passes `note` to the handler, if any.
+pub(crate) fn tell(note: Note) {
+    if let Some(handler) = HANDLER.get() {
+        handler(&note);
+    }
+}
 
 /// One thing worth telling the user.
 #[derive(Clone, Debug, PartialEq)]
@@ -29,6 +50,8 @@ pub enum Note {
     DifferenceFactor { lo_deg: f64, hi_deg: f64 },
     /// The error of a uniform fit organized by region: not one material.
     Regional { percent: f64, rms: f64 },
+    /// A scene with several cameras or lights (`what`), of which the first (`used`) is used.
+    FirstOfMany { scene: String, what: &'static str, count: usize, used: String },
 }
 
 /// What a user can do about a note; the command line names the option.
@@ -61,7 +84,7 @@ impl Note {
             Note::Headlit => Some(Remedy::SecondView),
             Note::DifferenceFactor { .. } => Some(Remedy::NoDifferenceFactor),
             Note::Regional { .. } => Some(Remedy::MaterialMap),
-            Note::Page { .. } | Note::TonesLobe { .. } | Note::FresnelUnseen { .. } => None,
+            Note::Page { .. } | Note::TonesLobe { .. } | Note::FresnelUnseen { .. } | Note::FirstOfMany { .. } => None,
         }
     }
 
@@ -116,6 +139,9 @@ impl fmt::Display for Note {
                 f,
                 "warning: this does not look like one uniform material: {percent:.0}% of the error is organized by region on the surface (relative RMS {rms:.2}); a material map fits one, best with a second view (thesis 4.2, 4.4)"
             ),
+            Note::FirstOfMany { scene, what, count, used } => {
+                write!(f, "{} has {count} {what}; {} is used (the first in node order), the others are ignored", one_line(scene), one_line(used))
+            }
         }
     }
 }
@@ -138,6 +164,7 @@ mod tests {
             Note::FresnelUnseen { reach_deg: 30.0, lobe: "ggx" },
             Note::DifferenceFactor { lo_deg: 5.0, hi_deg: 70.0 },
             Note::Regional { percent: 60.0, rms: 0.2 },
+            Note::FirstOfMany { scene: "s.gltf".into(), what: "cameras", count: 2, used: "front\nback".into() },
         ];
         for note in &notes {
             let line = note.to_string();

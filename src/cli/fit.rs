@@ -113,7 +113,7 @@ pub(super) struct FitArgs {
     #[arg(long, value_enum)]
     map_fit: Option<MapFitArg>,
     /// Laplacian smoothing weight of every factor (default: 1e-5 for 1D, 1e-4 for 2D).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     lambda: Option<f64>,
     /// Log mapping: auto, identity, offset[:A], inverted[:A].
     #[arg(long, default_value = "auto")]
@@ -128,8 +128,8 @@ pub(super) struct FitArgs {
     base: BaseChoice,
     /// Pixels removed along the silhouette: a pixel within N steps (8-neighbourhood) of the
     /// background is not a sample.
-    #[arg(long, value_name = "N", default_value_t = 1)]
-    erode: usize,
+    #[arg(long, value_name = "N", default_value_t = 1, allow_negative_numbers = true)]
+    erode: i64,
     /// MERL sampling density k: 2k³ (light, view) pairs.
     #[arg(long, default_value_t = 16)]
     density: usize,
@@ -155,6 +155,9 @@ impl KindArg {
     }
 }
 
+/// Most pixels `--erode` removes along the silhouette.
+const MAX_ERODE: i64 = 64;
+
 /// Checks the flags against each other and builds the pipeline's options.
 fn options(args: &FitArgs) -> Result<Options> {
     if args.kind != KindArg::Uniform && (args.merl.is_some() || args.lit_sphere.is_some()) {
@@ -174,6 +177,9 @@ fn options(args: &FitArgs) -> Result<Options> {
     if args.map_fit.is_some() && matches!(args.kind, KindArg::Uniform | KindArg::FourFactor) {
         return Err(Error::input("--map-fit applies to the material-map and hybrid kinds"));
     }
+    if let Some(l) = args.lambda.filter(|l| !(l.is_finite() && *l >= 0.0)) {
+        return Err(Error::input(format!("--lambda {l}: the smoothing weight is a finite number, 0 or more")));
+    }
     let mut opts = Options::new(args.kind.kind(), args.factors.dim(), args.res, args.lambda, args.uv_res)?;
     opts.difference = args.theta_d;
     opts.mapping = args.mapping;
@@ -182,8 +188,8 @@ fn options(args: &FitArgs) -> Result<Options> {
         Some(MapFitArg::Greedy) => map::Method::Greedy,
         Some(MapFitArg::Cluster) | None => map::Method::Cluster,
     };
-    if args.erode > 64 {
-        return Err(Error::input(format!("--erode {} is more than the 64 pixels allowed", args.erode)));
+    if !(0..=MAX_ERODE).contains(&args.erode) {
+        return Err(Error::input(format!("--erode {}: give 0 to {MAX_ERODE} pixels", args.erode)));
     }
     Ok(opts)
 }
@@ -359,7 +365,8 @@ fn print_mappings(fit: &Fit) {
 /// Paintings of scenes through the pipeline; nothing is written unless everything succeeds
 /// up to the save.
 fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
-    let erosion = Erosion { radius: args.erode, neighbours: Neighbours::Eight };
+    // Checked to lie in 0..=MAX_ERODE by `options`.
+    let erosion = Erosion { radius: args.erode as usize, neighbours: Neighbours::Eight };
     let mut sampler = SceneSampler::new()?;
     let pairs: Vec<(PathBuf, PathBuf)> = args.scene.iter().cloned().zip(args.image.iter().cloned()).collect();
     let mut loaded = pipeline::load_views(&mut sampler, &pairs, erosion)?;
