@@ -54,7 +54,7 @@ pub(super) struct FitArgs {
     /// The painting (PNG, JPEG: sRGB; EXR: linear) of the preceding --scene; alpha 0 is
     /// "not painted". With --normals: a photograph, lit by the --light that follows it.
     #[arg(long, value_name = "P.png", conflicts_with_all = ["merl", "lit_sphere", "photos"])]
-    pub(super) image: Vec<PathBuf>,
+    image: Vec<PathBuf>,
     /// A measured BRDF in the MERL binary format.
     #[arg(long, value_name = "F.binary", conflicts_with_all = ["lit_sphere", "normals", "photos"])]
     merl: Option<PathBuf>,
@@ -68,7 +68,7 @@ pub(super) struct FitArgs {
     /// With --normals: the light of the preceding --image, X,Y,Z towards it in the normal
     /// map's frame, and its colour × intensity R,G,B (divided out; default 1,1,1).
     #[arg(long, value_name = "X,Y,Z[,R,G,B]", value_parser = photos::parse_light, allow_hyphen_values = true, conflicts_with_all = ["merl", "scene", "photos"])]
-    pub(super) light: Vec<LightArg>,
+    light: Vec<LightArg>,
     /// A folder of photographs in the photometric-stereo layout (DiLiGenT's): the images,
     /// filenames.txt naming them, light_directions.txt (one x y z per image),
     /// light_intensities.txt (one r g b per image), mask.png and a normal map (normal.exr,

@@ -160,7 +160,7 @@ pub(super) fn load(input: &PhotoInput, erosion: Erosion) -> Result<(Vec<brdfpain
     for note in &read.notes {
         println!("note: {note}");
     }
-    if input.frame == MapFrame::View && read.photo.facing_away() > 0.1 {
+    if input.frame == MapFrame::View && read.world_space_suspected {
         println!("hint: for a world-space normal map give --camera-dir X,Y,Z (toward the camera, in the map's frame)");
     }
     Ok((read.views, read.notes))

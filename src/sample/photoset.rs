@@ -192,6 +192,8 @@ pub struct Photographs {
     pub left_out: LeftOut,
     /// One line each: how the photographs were read and what was left out.
     pub notes: Vec<String>,
+    /// Whether a view-space map looks like a world-space one ([`Photo::facing_away`]).
+    pub world_space_suspected: bool,
 }
 
 /// Above this share of normals facing away from the camera a view-space map is noted as
@@ -233,12 +235,13 @@ impl PhotoInput {
         let photo = Photo::new(normals, self.camera, self.frame)?;
         let mut notes = Vec::new();
         let away = photo.facing_away();
-        if away > AWAY_SHARE {
-            notes.push(format!(
-                "{}: {:.0}% of the normals face away from the camera, as in a world-space map read as view space (a world-space map needs the direction toward the camera in its frame)",
-                photo.normals.name,
-                100.0 * away
-            ));
+        let world_space_suspected = away > AWAY_SHARE;
+        if world_space_suspected {
+            let why = match self.frame {
+                MapFrame::View => "as in a world-space map read as view space (a world-space map needs the direction toward the camera in its frame)",
+                MapFrame::World { .. } => "so the direction toward the camera given is probably not the camera's",
+            };
+            notes.push(format!("{}: {:.0}% of the normals face away from the camera, {why}", photo.normals.name, 100.0 * away));
         }
         notes.push(encodings(&images));
         let (mut views, mut left_out) = (Vec::new(), LeftOut::default());
@@ -253,7 +256,7 @@ impl PhotoInput {
             views.push(view);
         }
         notes.push(left_out.describe(views.len()));
-        Ok(Photographs { photo, views, left_out, notes })
+        Ok(Photographs { photo, views, left_out, notes, world_space_suspected })
     }
 }
 
