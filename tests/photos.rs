@@ -207,6 +207,41 @@ fn photographs_given_pair_by_pair_fit_and_render_back() {
     assert_eq!(r.code, 2, "{}", r.stderr);
 }
 
+/// A world-space normal map with its lights in the same frame, the camera's direction and
+/// up given, fits the material the view-space set does.
+#[test]
+fn a_world_space_map_with_its_camera_fits_as_the_view_space_one() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (view, world) = (tmp.path().join("view"), tmp.path().join("world"));
+    write_set(&view, &glossy(), &FIT_LIGHTS);
+    write_set(&world, &glossy(), &FIT_LIGHTS);
+    // World from camera: a turn of 50° about (1, 2, 0.5).
+    let r = glam::DMat3::from_axis_angle(DVec3::new(1.0, 2.0, 0.5).normalize(), 50f64.to_radians());
+    write_normals(&world.join("normal.png"), |i, j| normal(i, j).map(|n| r * n));
+    let turned: String = FIT_LIGHTS.iter().map(|&k| r * lights()[k].direction).map(|d| format!("{} {} {}\n", d.x, d.y, d.z)).collect();
+    std::fs::write(world.join("light_directions.txt"), turned).unwrap();
+    let (back, up) = (r * DVec3::Z, r * DVec3::Y);
+    let (back, up) = (format!("{},{},{}", back.x, back.y, back.z), format!("{},{},{}", up.x, up.y, up.z));
+    let mut medians = Vec::new();
+    let all = tmp.path().join("all");
+    write_set(&all, &glossy(), &(0..12).collect::<Vec<_>>());
+    for (dir, extra) in [(&view, vec![]), (&world, vec!["--camera-dir", back.as_str(), "--camera-up", up.as_str()])] {
+        let mat = dir.join("mat");
+        let mut args = vec!["fit", "--photos", s(dir), "--out", s(&mat)];
+        args.extend(extra);
+        let r = run(tmp.path(), &args);
+        assert_eq!(r.code, 0, "{}{}", r.stdout, r.stderr);
+        assert!(!r.stdout.contains("face away"), "{}", r.stdout);
+        let held = photos::judge(&Material::load(&mat).unwrap(), &photos::others(&folder(&all), &FIT_LIGHTS)).unwrap();
+        medians.push(brdfpaint::study::median(&held));
+    }
+    eprintln!("held out, view space {:.5}, world space {:.5}", medians[0], medians[1]);
+    assert!((medians[0] - medians[1]).abs() < 1e-3, "{medians:?}");
+    // Without the camera, the world-space map is noted as one.
+    let r = run(tmp.path(), &["fit", "--photos", s(&world), "--out", s(&tmp.path().join("m2"))]);
+    assert!(r.stdout.contains("face away from the camera") && r.stdout.contains("--camera-dir"), "{}{}", r.stdout, r.stderr);
+}
+
 /// One line on stderr containing every needle, exit `code`, no material written.
 fn fails(tmp: &Path, args: &[&str], code: i32, needles: &[&str]) {
     let out = tmp.join("bad-mat");

@@ -204,9 +204,9 @@ pub enum MapFrame {
     World { toward_camera: DVec3, up: DVec3 },
 }
 
-/// A view-space map whose normals face away from the camera by more than this
-/// ($n_z < -0.2$) on over a tenth of the surface is probably in world space.
-const AWAY_Z: f64 = -0.2;
+/// A normal facing away from the camera: camera-space $n_z$ below this. A view-space map
+/// has them only in a thin rim band (a perspective camera sees a little past $n_z = 0$).
+const AWAY_Z: f64 = -0.05;
 
 impl Photo {
     /// A view-space normal map seen by `camera`.
@@ -229,9 +229,9 @@ impl Photo {
         Ok(Photo { normals, camera, camera_to_frame })
     }
 
-    /// The share of surface normals that face away from the camera (their camera-space
-    /// $z$ below -0.2): near 0 for a map in the frame the photo says, about a half for a
-    /// world-space map taken as view space.
+    /// The share of surface normals that face away from the camera ([`AWAY_Z`]): near 0
+    /// for a map in the frame the photo says, a good part for a world-space map taken as
+    /// view space (a sixth when its camera is 50° off the map's $z$).
     pub fn facing_away(&self) -> f64 {
         let to_camera = self.camera_to_frame.transpose();
         let (away, all) = self.normals.normals.iter().flatten().fold((0usize, 0usize), |(a, n), &v| {
