@@ -11,9 +11,9 @@
 //!
 //! The analytic base is chosen as `brdfpaint fit` chooses it (`auto`) unless `--base` says.
 
-use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::factor::{Mapping, Robust, Settings};
-use brdfpaint::pipeline::Reading;
+use brdfpaint::read::Reading;
 use brdfpaint::study::median;
 use brdfpaint::study::faults::{self, FaultyView, Faults, Row};
 use brdfpaint::study::fidelity::{held_out_presets, painted_presets, StudyView};

@@ -5,13 +5,13 @@
 //!
 //! `cargo run --release --example merl_fits [-- ../shared/data/merl-fits/merl_abc_fits_low2012.csv] [--base]`
 //!
-//! With `--base`: the warped default without and with the analytic base (`factor::base`,
+//! With `--base`: the warped default without and with the analytic base (`brdf::lobe`,
 //! `ggx` and `auto`). With `--theta-d`: without and with a factor of θ_d, and the base.
 
 use brdfpaint::brdf::{Abc, Reflectance, SphereView};
 use brdfpaint::factor::{Pattern, Settings};
 use brdfpaint::study::median;
-use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::study::suite::{dense, measure_on_based, paintings, Row};
 
 fn main() -> brdfpaint::Result<()> {
@@ -21,7 +21,7 @@ fn main() -> brdfpaint::Result<()> {
     let named: Vec<(String, &dyn Reflectance)> = materials.iter().map(|m| (m.name.clone(), m as &dyn Reflectance)).collect();
     let painted = |n: usize| Pattern::concat(&paintings(n).iter().map(SphereView::pattern).collect::<Vec<_>>());
     let sources = [("1 painting", painted(1)), ("3 paintings", painted(3)), ("dense", dense(16)?)];
-    // `--base` adds the analytic base (`factor::base`) beside the warped default.
+    // `--base` adds the analytic base (`brdf::lobe`) beside the warped default.
     let based = std::env::args().any(|a| a == "--base");
     let mut settings = vec![("unwarped", Settings::warped(1.0), BaseChoice::None), ("warped", Settings::default(), BaseChoice::None)];
     if based {

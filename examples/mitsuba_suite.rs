@@ -14,7 +14,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::sample::SceneSampler;
 use brdfpaint::study::median;
 use brdfpaint::study::rendered::{self, median_of_medians, worst_view, Row, Suite};

@@ -6,10 +6,10 @@
 //! `default` (the thesis's p(l) q(h) r(v)), or one of the candidates listed by `--list`.
 //! `--theta-d auto|on|off` (default off) adds a factor of θ_d as `brdfpaint fit --theta-d`
 //! does. `--base ggx` fits an analytic GGX lobe first and the product to S / B
-//! (`factor::base`); `--base none` (the default) is the thesis's product alone.
+//! (`brdf::lobe`); `--base none` (the default) is the thesis's product alone.
 
 use brdfpaint::brdf::Analytic;
-use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::factor::{difference_range, DifferenceChoice, Pattern};
 use brdfpaint::study::suite::{held_out, measure_based, paintings, peaks_based, sharp_model, summary, wide_paintings};
 
@@ -83,15 +83,15 @@ fn main() -> brdfpaint::Result<()> {
     // The base's own fit (the search over alpha and the linear fit, for each of the seven
     // lobe families `auto` tries), once per fit.
     let base_s = brdfpaint::study::bench::median_time(20, 1.0, || {
-        std::hint::black_box(brdfpaint::factor::base::Base::fit_any(&pattern, &values));
+        std::hint::black_box(brdfpaint::brdf::lobe::Base::fit_any(&pattern, &values));
     });
     // A whole solve (three mappings, errors on the samples), plain and over a fixed base.
     let plain_s = brdfpaint::study::bench::median_time(50, 1.0, || {
         std::hint::black_box(prepared.solve(&values, brdfpaint::factor::Mapping::Auto).expect("solve"));
     });
-    let (lobe, _) = brdfpaint::factor::base::Base::fit(&pattern, &values).expect("a lobe");
+    let (lobe, _) = brdfpaint::brdf::lobe::Base::fit(&pattern, &values).expect("a lobe");
     let on_base_s = brdfpaint::study::bench::median_time(50, 1.0, || {
-        let fit = brdfpaint::factor::base::solve_on_base(&prepared, &pattern, &values, brdfpaint::factor::Mapping::Auto, &lobe, 1.0);
+        let fit = brdfpaint::material::based::solve_on_base(&prepared, &pattern, &values, brdfpaint::factor::Mapping::Auto, &lobe, 1.0);
         std::hint::black_box(fit.expect("solve"));
     });
     println!(

@@ -7,29 +7,65 @@ use std::path::{Path, PathBuf};
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 /// Everything that can go wrong, one documented variant per kind of failure.
-#[derive(Debug, thiserror::Error)]
+///
+/// Its message is one line whatever a name in it holds: control characters (a newline in a
+/// file or texture name) are written as escapes ([`one_line`]).
+#[derive(Debug)]
 pub enum Error {
     /// Reading or writing a file failed at the operating-system level.
-    #[error("{}: {source}", path.display())]
     Io { path: PathBuf, source: std::io::Error },
 
     /// A file exists but its content is not what it claims to be (corrupt, truncated,
     /// unsupported version, wrong size).
-    #[error("{}: {reason}", path.display())]
     Format { path: PathBuf, reason: String },
 
     /// Input data that cannot be used: NaN or negative sample values, empty sample sets,
     /// mismatched sizes, absurd resolutions. The message names the offending value.
-    #[error("{0}")]
     Input(String),
 
     /// The numerical solve failed (e.g. the system is not positive definite).
-    #[error("numerical failure: {0}")]
     Numeric(String),
 
     /// OpenGL or EGL failed: no context, shader compile or link errors, framebuffer errors.
-    #[error("OpenGL: {0}")]
     Gl(String),
+}
+
+impl Error {
+    /// The message before [`one_line`] escapes it.
+    fn raw_message(&self) -> String {
+        match self {
+            Error::Io { path, source } => format!("{}: {source}", path.display()),
+            Error::Format { path, reason } => format!("{}: {reason}", path.display()),
+            Error::Input(reason) => reason.clone(),
+            Error::Numeric(reason) => format!("numerical failure: {reason}"),
+            Error::Gl(reason) => format!("OpenGL: {reason}"),
+        }
+    }
+}
+
+impl std::fmt::Display for Error {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&one_line(&self.raw_message()))
+    }
+}
+
+impl std::error::Error for Error {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Error::Io { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}
+
+/// `text` on one line: control characters (newline, tab, escape, ...) written as Rust
+/// escapes (`\n`, `\t`, `\u{1b}`), everything else as it is. Errors and notes go through
+/// it, so a name holding a newline cannot split a message or forge a second one.
+pub fn one_line(text: &str) -> String {
+    if !text.chars().any(char::is_control) {
+        return text.to_string();
+    }
+    text.chars().map(|c| if c.is_control() { c.escape_default().to_string() } else { c.to_string() }).collect()
 }
 
 impl Error {
@@ -74,4 +110,19 @@ pub(crate) fn catch_panic<T>(f: impl FnOnce() -> T) -> std::result::Result<T, St
 /// library: a panic hook stays quiet then (the error is reported as one line instead).
 pub fn panic_is_caught() -> bool {
     CATCHING.with(|c| c.get() > 0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn messages_are_one_line_whatever_a_name_holds() {
+        let e = Error::format("dir/a\nb.exr", "texture 'x\ty' is missing\r");
+        assert_eq!(e.to_string(), "dir/a\\nb.exr: texture 'x\\ty' is missing\\r");
+        assert_eq!(Error::input("bell \u{7} and escape \u{1b}[31m").to_string(), "bell \\u{7} and escape \\u{1b}[31m");
+        assert_eq!(Error::input("plain é ünïcode").to_string(), "plain é ünïcode");
+        let io = Error::io("x\ny", std::io::Error::from(std::io::ErrorKind::NotFound));
+        assert!(!io.to_string().contains('\n') && std::error::Error::source(&io).is_some());
+    }
 }

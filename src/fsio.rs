@@ -62,11 +62,24 @@ fn check_meta(path: &Path, meta: &std::fs::Metadata, cap: u64) -> Result<u64> {
 }
 
 fn too_large(path: &Path, cap: u64) -> Error {
-    Error::format(path, format!("larger than the {} MiB this tool reads from one file", cap >> 20))
+    let size = if cap >= 1 << 20 { format!("{} MiB", cap >> 20) } else { format!("{cap} bytes") };
+    Error::format(path, format!("larger than the {size} this tool reads from one file"))
 }
 
 /// The bytes of the regular file `path`, at most `cap` of them (module docs).
 pub fn read_regular(path: &Path, cap: u64) -> Result<Vec<u8>> {
+    let (file, len) = open_regular(path, cap)?;
+    let mut bytes = Vec::with_capacity(len as usize);
+    file.take(cap + 1).read_to_end(&mut bytes).map_err(|e| Error::io(path, e))?;
+    if bytes.len() as u64 > cap {
+        return Err(too_large(path, cap));
+    }
+    Ok(bytes)
+}
+
+/// The regular file `path`, opened for reading, and its length, at most `cap` (module
+/// docs). For reading a header without the rest; a reader must still stop at `cap`.
+pub fn open_regular(path: &Path, cap: u64) -> Result<(std::fs::File, u64)> {
     check_regular(path, cap)?;
     let mut options = std::fs::OpenOptions::new();
     options.read(true);
@@ -80,12 +93,7 @@ pub fn read_regular(path: &Path, cap: u64) -> Result<Vec<u8>> {
     // The same checks on the handle: the path may have been replaced since.
     let meta = file.metadata().map_err(|e| Error::io(path, e))?;
     let len = check_meta(path, &meta, cap)?;
-    let mut bytes = Vec::with_capacity(len as usize);
-    file.take(cap + 1).read_to_end(&mut bytes).map_err(|e| Error::io(path, e))?;
-    if bytes.len() as u64 > cap {
-        return Err(too_large(path, cap));
-    }
-    Ok(bytes)
+    Ok((file, len))
 }
 
 /// Why [`resolve_inside`] refused a name.

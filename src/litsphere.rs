@@ -30,7 +30,7 @@ use glam::{DMat3, DVec3, Mat4, Vec3};
 use crate::error::{Error, Result};
 use crate::factor::cache::Cache;
 use crate::factor::Settings;
-use crate::images::{neighbours4, Painting};
+use crate::images::{neighbours4, Painting, Shrink};
 use crate::pipeline::{self, Fitted, Options};
 use crate::scene::{sphere_mesh, Camera, Light, Projection, Scene};
 use crate::sample::{Erosion, PaintedView, SceneSampler};
@@ -38,6 +38,10 @@ use crate::sample::{Erosion, PaintedView, SceneSampler};
 /// Longest side a lit-sphere picture is fitted at: larger pictures are box-filtered down
 /// (a 512² disk holds about 200k samples; more add time, not information).
 pub const MAX_SIDE: usize = 512;
+
+/// Fewest pixels on the shorter side of a picture once shrunk to [`MAX_SIDE`]: a disk is
+/// found only with a radius of 4 pixels or more ([`find_disk`]), so 16 leaves room for it.
+pub const MIN_SIDE: usize = 16;
 
 /// The sphere's outline in the picture, pixels (x right, y down, pixel centres at +0.5).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -451,35 +455,34 @@ pub fn scene(disk: &Disk, width: usize, height: usize, light: DVec3) -> Scene {
     }
 }
 
-/// `p` box-filtered so its longer side is at most `max_side` (alpha-weighted colours), and the
-/// factor it was shrunk by.
+/// Refuses a picture whose shorter side, shrunk to `max_side`, is under [`MIN_SIDE`]
+/// pixels: no sphere fits in it (a 1000×1 strip, say).
+fn check_shape(name: &str, width: usize, height: usize, max_side: usize) -> Result<()> {
+    let shorter = width.min(height) / Shrink::factor(width, height, max_side);
+    if shorter < MIN_SIDE {
+        return Err(Error::input(format!(
+            "{name} is {width}x{height}: too small or too narrow to hold a sphere (shrunk to at most {max_side} pixels a side, its shorter side is {shorter} pixels; a sphere needs {MIN_SIDE})"
+        )));
+    }
+    Ok(())
+}
+
+/// `p` box-filtered so its longer side is at most `max_side` (alpha-weighted colours,
+/// [`Shrink`]), and the factor it was shrunk by.
 pub fn shrink(p: &Painting, max_side: usize) -> (Painting, usize) {
-    let f = p.width.max(p.height).div_ceil(max_side).max(1);
-    if f == 1 {
+    let mut shrink = Shrink::new(p.width, p.height, max_side);
+    if shrink.f() == 1 {
         return (p.clone(), 1);
     }
-    let (w, h) = (p.width / f, p.height / f);
-    let mut out = Painting { width: w, height: h, pixels: vec![[0.0; 3]; w * h], alpha: vec![0.0; w * h], saturated: vec![false; w * h] };
-    for j in 0..h {
-        for i in 0..w {
-            let (mut c, mut a, mut sat) = ([0.0f32; 3], 0.0f32, true);
-            for y in j * f..(j + 1) * f {
-                for x in i * f..(i + 1) * f {
-                    let k = y * p.width + x;
-                    for (sum, &x) in c.iter_mut().zip(&p.pixels[k]) {
-                        *sum += x * p.alpha[k];
-                    }
-                    a += p.alpha[k];
-                    sat &= p.saturated[k];
-                }
-            }
-            let k = j * w + i;
-            out.alpha[k] = a / (f * f) as f32;
-            out.pixels[k] = if a > 0.0 { c.map(|x| x / a) } else { [0.0; 3] };
-            out.saturated[k] = sat;
-        }
+    let mut row = Vec::with_capacity(p.width);
+    for j in 0..p.height {
+        row.clear();
+        let k = j * p.width;
+        row.extend((k..k + p.width).map(|k| (p.pixels[k], p.alpha[k], p.saturated[k])));
+        shrink.row(j, &row);
     }
-    (out, f)
+    let f = shrink.f();
+    (shrink.finish(), f)
 }
 
 /// Damping of the light factor's deviation from its physical shape in a lit-sphere fit
@@ -520,14 +523,24 @@ pub struct Picture {
 impl Picture {
     /// Reads the picture at `path` (PNG, JPEG, EXR) at most `max_side` pixels a side and
     /// finds its disk. Errors, one line each: unreadable, all background, no disk, two shapes.
+    /// The picture is decoded and shrunk in passing (a 4096² PNG is never held at full
+    /// size), and its shape checked from its header.
     pub fn read(path: &Path, max_side: usize) -> Result<Picture> {
         let name = path.display().to_string();
-        Picture::new(name, &Painting::read(path)?, max_side)
+        let max_side = max_side.max(MIN_SIDE);
+        let (painting, _) = Painting::read_shrunk(path, max_side, |w, h| check_shape(&name, w, h, max_side))?;
+        Picture::found(name, painting)
     }
 
     /// [`Picture::read`] of a painting already in memory, named `name`.
     pub fn new(name: String, original: &Painting, max_side: usize) -> Result<Picture> {
-        let (mut painting, _) = shrink(original, max_side.max(16));
+        let max_side = max_side.max(MIN_SIDE);
+        check_shape(&name, original.width, original.height, max_side)?;
+        Picture::found(name, shrink(original, max_side).0)
+    }
+
+    /// The picture of an already shrunk painting: its disk found, the rest unpainted.
+    fn found(name: String, mut painting: Painting) -> Result<Picture> {
         let (disk, outline) = find_disk(&painting, &name)?;
         // Only the sphere is paint: the background (and the rim, which mixes with it) is not.
         for j in 0..painting.height {

@@ -17,5 +17,6 @@ fn main() -> std::process::ExitCode {
             eprintln!("error: internal error (please report): {info}");
         }
     }));
+    brdfpaint::note::set_handler(|note| eprintln!("note: {note}"));
     cli::run()
 }

@@ -23,13 +23,14 @@ use std::time::Instant;
 use crate::commit::StagedDir;
 use crate::error::{Error, Result};
 use crate::factor::cache::{Cache, Outcome};
-use crate::factor::base::BaseChoice;
+use crate::read::lobe::BaseChoice;
 use crate::factor::{defaults, difference_range, DifferenceChoice, DIFFERENCE_REACH_DEG, Errors, Fit, Mapping, Prepared, Settings};
 use crate::images::Rgb;
 use crate::material::map::{self, MapOptions, MapReport};
 use crate::material::{Kind, Material, Provenance};
 use crate::render::GBuffer;
-use crate::sample::{register, strays, tones};
+use crate::note::Note;
+use crate::read::{Reader, Reading};
 use crate::sample::{check_same_model, report, Erosion, PaintedView, Samples, SceneSampler};
 
 /// What to fit: the material's kind, its factor tables, the log mapping, and for material
@@ -42,7 +43,7 @@ pub struct Options {
     pub mapping: Mapping,
     /// Terms, coefficient resolution and method of a material map or hybrid.
     pub map: MapOptions,
-    /// The analytic base under a uniform product ([`crate::factor::base`], issue 15).
+    /// The analytic base under a uniform product ([`crate::brdf::lobe`], issue 15).
     /// `None` by default (the demo, lit spheres and live painting fit the plain product);
     /// `brdfpaint fit` passes its `--base`, `auto` unless told.
     pub base: BaseChoice,
@@ -114,12 +115,12 @@ pub struct Loaded {
     pub views: Vec<PaintedView>,
     /// The G-buffer each view was sampled from (its pixels' frames: [`Loaded::read`]).
     pub gbuffers: Vec<GBuffer>,
-    /// One line each: what was left out of a painting and why, and how it was read.
-    pub notes: Vec<String>,
+    /// What was left out of a painting and why, and how it was read.
+    pub notes: Vec<Note>,
 }
 
 impl Loaded {
-    /// Reads the paintings for a fit of `kind` as evidence ([`read`]); the notes join the
+    /// Reads the paintings for a fit of `kind` as evidence ([`Reader`]); the notes join the
     /// load's. A spatially varying painting is not one product: its residual says nothing
     /// about the light and its regions' tones are not one shading, so only the uniform kinds
     /// are read.
@@ -128,294 +129,12 @@ impl Loaded {
             return Ok(());
         }
         let gbuffers: Vec<&GBuffer> = self.gbuffers.iter().collect();
-        let notes = read(&mut self.views, &gbuffers, reading)?;
-        self.notes.extend(notes);
+        let evidence = Reader::new(*reading, &gbuffers).read(std::mem::take(&mut self.views))?;
+        self.views = evidence.views;
+        self.notes.extend(evidence.notes);
         Ok(())
     }
 }
-
-/// How paintings are read before a uniform fit (issue 11: a painting is noisy, stylized
-/// evidence of a plausible material).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Reading {
-    /// Flat tones become the smooth shading between their edges ([`crate::sample::tones`]).
-    pub smooth_tones: bool,
-    /// Each view's light is registered to where the painting was shaded from
-    /// ([`crate::sample::register`]).
-    pub register_light: bool,
-    /// Strokes that do not belong to the shading are repainted with the shading around them
-    /// ([`crate::sample::strays`]).
-    pub repaint_strays: bool,
-}
-
-impl Default for Reading {
-    fn default() -> Self {
-        Reading { smooth_tones: true, register_light: true, repaint_strays: true }
-    }
-}
-
-/// Reads painted views as `reading` says, in place, with the 1D default product judging
-/// each step. One note per change. The order matters: flat tones are interpolated first
-/// (every later step fits the painting and a staircase misleads it); the light registered
-/// (a toned painting's first on its steps as painted, [`register_as_painted`]); stray
-/// strokes repainted, and if there were any the light registered again (they hide the
-/// painter's light); last the tones read again through the physical proxy under that light.
-///
-/// Strays found in flat tones are left out instead, and the views read again from the
-/// start without them. A stroke in flat tones is tones of its own: the interpolation
-/// between edges ([`tones::smooth`]) runs to it from the shading round it, and the light
-/// is registered on its steps, before the stray search can find it. Read again without
-/// the strokes, every fault held out at 0.0542 → 0.0505 (nine models' median, mean of
-/// brush seeds 1–12) and 0.0481 → 0.0448 (seeds 13–24), GGX 0.2 0.285 → 0.146, Oren-Nayar
-/// 0.037 → 0.018 ([`strays`]' `TONED_RIM` with it; BENCHMARKS.md, "Strokes in flat
-/// tones"). Left out rather than repainted: the proxy's paint is Lambertian where the
-/// material is not (Oren-Nayar 0.041 repainted, 0.019 left out, every fault, seeds 1–12,
-/// a rim of two pixels).
-/// Not under a headlight, where the light factor has only the painting's one angle to go
-/// by and the holes let it stay up as the light goes behind: a headlit Minnaert sphere with
-/// every fault (seed 11) swept to 0.60 of its brightest frame, against 0.24 repainted.
-pub fn read(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading) -> Result<Vec<String>> {
-    // The views as given, for the second reading (strays are searched in a single view).
-    let given: Option<Vec<PaintedView>> = (views.len() == 1 && reading.smooth_tones && reading.repaint_strays).then(|| views.to_vec());
-    let (first_notes, strays, _) = read_once(views, gbuffers, reading)?;
-    let (Some(given), Some(mut strays)) = (given, strays) else { return Ok(first_notes) };
-    if !strays.toned {
-        return Ok(first_notes);
-    }
-    // The views as given go back in; `given` keeps the first reading, restored if the
-    // second explains nothing.
-    let mut first = given;
-    views.swap_with_slice(&mut first);
-    for (view, pixels) in views.iter_mut().zip(&strays.per_view) {
-        for &k in pixels {
-            if std::mem::replace(&mut view.geometry.usable[k], false) {
-                view.geometry.left_out += 1;
-            }
-        }
-    }
-    let (mut notes, _, turns) = read_once(views, gbuffers, &Reading { repaint_strays: false, ..*reading })?;
-    // A second reading the factored fit cannot explain at all (it misses by more than the
-    // painting's own values, [`UNEXPLAINED_FIT`]) is not kept.
-    if turns.iter().any(|t| !t.by_tones && t.after > UNEXPLAINED_FIT) {
-        views.swap_with_slice(&mut first);
-        return Ok(first_notes);
-    }
-    strays.left_out = true;
-    notes.extend(strays.describe(views));
-    Ok(notes)
-}
-
-/// The second reading of a toned painting without its strays ([`read`]) is kept only when
-/// the factored fit, under the light it registered, misses the painting by at most this
-/// relative RMS: beyond 1 it explains less than a black material would. Read again, GGX 0.2
-/// with every fault lost a tone to its strays at brush seeds 6, 15 and 23 (6, 5 and 5
-/// levels) and the fit missed it by 1.10–1.23 (held out 0.80–0.81, against 0.24–0.33 as
-/// first read); every other second reading over seeds 1–24 missed by at most 0.47.
-const UNEXPLAINED_FIT: f64 = 1.0;
-
-/// One reading ([`read`]): its notes, the strays it repainted, and each view's light.
-fn read_once(views: &mut [PaintedView], gbuffers: &[&GBuffer], reading: &Reading) -> Result<(Vec<String>, Option<strays::Strays>, Vec<register::Turn>)> {
-    let mut repainted = None;
-    let mut notes = Vec::new();
-    let mut toned = Vec::new();
-    // The paintings as painted, for a toned painting's first registration.
-    let as_painted: Option<Vec<_>> = (reading.smooth_tones && reading.register_light).then(|| views.iter().map(|v| v.painting.clone()).collect());
-    if reading.smooth_tones {
-        for (i, view) in views.iter_mut().enumerate() {
-            if let Some(t) = tones::smooth(view) {
-                notes.push(t.describe(&view.name));
-                toned.push((i, t));
-            }
-        }
-    }
-    let register = |views: &mut [PaintedView]| -> Result<Vec<register::Turn>> {
-        match reading.register_light {
-            true => register::register(views, gbuffers, &Settings::default()),
-            false => Ok(Vec::new()),
-        }
-    };
-    let scene_geometry: Vec<_> = views.iter().map(|v| v.geometry.clone()).collect();
-    let clear = match as_painted {
-        Some(painted) if !toned.is_empty() => register_as_painted(views, painted, gbuffers)?,
-        _ => None,
-    };
-    let mut turns = match clear {
-        Some(turns) => turns,
-        None => register(views)?,
-    };
-    // Every pass's proposal per view, for toned views to judge on their tones below.
-    let mut proposals: Vec<Vec<(glam::DQuat, f64)>> = turns.iter().map(|t| vec![(t.proposed, t.proposed_gain)]).collect();
-    if reading.repaint_strays {
-        let tones_of: Vec<Option<&tones::Toned>> = (0..views.len()).map(|v| toned.iter().find(|(i, _)| *i == v).map(|(_, t)| t)).collect();
-        if let Some(found) = strays::repaint(views, &Settings::default(), &tones_of)? {
-            notes.extend(found.describe(views));
-            // A repainted stray's tone interval is the stroke's, not the shading's.
-            for (i, t) in toned.iter_mut() {
-                let stray: std::collections::HashSet<usize> = found.per_view[*i].iter().copied().collect();
-                t.bounds.retain(|(k, _)| !stray.contains(k));
-            }
-            repainted = Some(found);
-            // Without the strays the painter's light may show more clearly: searched again
-            // (about the scene's light), a view keeps its first turn unless the new one
-            // explains it better.
-            for ((turn, again), proposed) in turns.iter_mut().zip(register(views)?).zip(proposals.iter_mut()) {
-                proposed.push((again.proposed, again.proposed_gain));
-                if again.moved() {
-                    *turn = again;
-                }
-            }
-        }
-    }
-    // A toned view's light is registered on the interpolation between its tone edges, a
-    // guess; the edges themselves are the evidence. The turn is undone when the scene's light
-    // holds the tones clearly better (`tones::held`): a posterized Minnaert sphere was turned
-    // 13° on the interpolation (its tones left by 0.0013 under the scene's light, 0.044
-    // under the turn), and its held-out error went 0.01 → 0.29. Where the tones cannot tell
-    // (a Gooch painting's two or three, under a headlight), the turn stays.
-    // A toned view whose light the factored fit would not turn may still be turned on its
-    // tones ([`turn_on_tones`]).
-    // The reading under the light kept, for `tones::refine` below (a search not repeated).
-    let mut held: Vec<Option<tones::Luminance>> = toned.iter().map(|_| None).collect();
-    for ((i, t), kept) in toned.iter().zip(held.iter_mut()) {
-        // No turns at all when the light is not registered.
-        if turns.get(*i).is_none() {
-            continue;
-        }
-        if !turns[*i].moved() {
-            if let Some((turn, reading)) = turn_on_tones(&mut views[*i], t, gbuffers[*i], &scene_geometry[*i], &proposals[*i]) {
-                turns[*i] = turn.unwrap_or(turns[*i]);
-                *kept = Some(reading);
-            }
-            continue;
-        }
-        let turned = tones::held(&views[*i], t);
-        let registered = std::mem::replace(&mut views[*i].geometry, scene_geometry[*i].clone());
-        let scene = tones::held(&views[*i], t);
-        match (turned, scene) {
-            (Some(turned), Some(scene)) if scene.outside() < (1.0 - register::MIN_GAIN) * turned.outside() => {
-                turns[*i] = register::Turn::kept(turns[*i].before);
-                *kept = Some(scene);
-            }
-            (turned, _) => {
-                views[*i].geometry = registered;
-                *kept = turned;
-            }
-        }
-    }
-    for (view, turn) in views.iter().zip(&turns) {
-        if turn.moved() {
-            notes.push(register::describe(view, turn));
-        }
-    }
-    for ((i, t), held) in toned.iter().zip(held) {
-        if let Some((lobe, alpha)) = tones::refine(&mut views[*i], t, held) {
-            let width = if lobe.has_width() { format!(" ({})", lobe.width_of(alpha)) } else { String::new() };
-            notes.push(format!("{}: its tones are held best by the {} lobe{width}: read through it", views[*i].name, lobe.name()));
-        }
-    }
-    Ok((notes, repainted, turns))
-}
-
-/// The light of toned paintings registered on their steps as painted (`painted`: the
-/// paintings of `views` before their tones were smoothed), when that is clear: every view's
-/// turn is kept by [`register::register`]'s own test. Then `views` take the turned geometry and the turns
-/// are returned; else `None`, nothing changed, and the light is registered on the smoothed
-/// tones as for any painting. A step's quantization error sits about the shading on both
-/// sides of its edge, while the interpolation between edges ([`tones::smooth`]) is a guess
-/// that holds the light back: the same toned paintings with the light 10° off were turned
-/// 5–7° on the interpolation and 8° here, as the untoned painting is (faults study scratch
-/// harness, seed 11: nine models' held-out median 0.0629 → 0.0276, 0.0273 with the
-/// painter's light; with brush texture too, eight seeds, 0.0647 → 0.0487; every fault
-/// 0.0671 → 0.0662; BENCHMARKS.md, "The light on toned paintings"). Not under a headlight,
-/// where one painting shows one angle and its steps cannot place the light: headlit
-/// paintings with every fault went 0.1995 → 0.2111 (Minnaert 0.165 → 0.356 at seed 11).
-/// Costs one more registration where it is not clear (the bench's toned case 0.65–0.71 s →
-/// 0.72–0.81 s).
-fn register_as_painted(views: &mut [PaintedView], painted: Vec<crate::images::Painting>, gbuffers: &[&GBuffer]) -> Result<Option<Vec<register::Turn>>> {
-    let headlit = views.iter().any(|v| crate::factor::headlit(v.geometry.pixels.iter().flatten().map(|p| (p.query.l, p.query.v))));
-    if headlit {
-        return Ok(None);
-    }
-    // The smoothed paintings are not copied, only what registration reads beside them.
-    let mut painted: Vec<PaintedView> = views
-        .iter()
-        .zip(painted)
-        .map(|(v, painting)| PaintedView { name: v.name.clone(), source: v.source.clone(), geometry: v.geometry.clone(), painting })
-        .collect();
-    let turns = register::register(&mut painted, gbuffers, &Settings::default())?;
-    if !turns.iter().all(register::Turn::moved) {
-        return Ok(None);
-    }
-    for (view, p) in views.iter_mut().zip(painted) {
-        view.geometry = p.geometry;
-    }
-    Ok(Some(turns))
-}
-
-/// The light of a toned view the factored fit did not turn (its geometry the scene's,
-/// `scene`), judged on its tones: the search's proposals (`proposals`, one per pass, about
-/// the scene's light) and the lights its brightest tone points to
-/// ([`register::brightest_turns`]; seed 4 below, where the search went 20° the wrong way in
-/// both passes) are read under each ([`tones::held`]), and the best is taken when its
-/// tones' misfit is under [`register::CLEAR_GAIN`] of the scene's light's (the margin a fit
-/// that stays poor needs), or [`register::MIN_GAIN`] under it where the factored fit gained
-/// as much from the same turn (the two judges agree). The factored fit's misfit is the
-/// painting's, strays and brush included, and a glossy painting in flat tones is missed by
-/// it anyway; the tones' edges are where the painter put the shading. GGX 0.2 with every
-/// fault, brush seed 5 (the strays still in the first pass's fit, which gained 8% from the
-/// 8° turn; after them the search found 2.5°): the edges are missed by 0.217 under the
-/// scene's light, 0.019 turned, and the held-out error went 0.852 → 0.232; seed 6 (fit and
-/// tones 31% and 40% better turned) 0.996 → 0.460; seed 4 (0.186 → 0.019 toward the
-/// brightest tone's mirror light) 0.835 → 0.321 (BENCHMARKS.md). Returns the turn taken
-/// (`None`: the light stays) and the reading under the light kept, for [`tones::refine`];
-/// `None` when the tones give no reading.
-fn turn_on_tones(
-    view: &mut PaintedView,
-    toned: &tones::Toned,
-    g: &GBuffer,
-    scene: &crate::sample::Geometry,
-    proposals: &[(glam::DQuat, f64)],
-) -> Option<(Option<register::Turn>, tones::Luminance)> {
-    let at_scene = tones::held(view, toned)?;
-    // The search's proposals, and where the brightest tone says the light is (a fit's gain
-    // of 1: judged on the tones alone) when the scene's light leaves the tones unexplained.
-    let brightest = match at_scene.outside() > UNEXPLAINED_TONES {
-        true => register::brightest_turns(g, &toned.brightest()),
-        false => Vec::new(),
-    };
-    let candidates = proposals.iter().copied().chain(brightest.into_iter().map(|q| (q, 1.0)));
-    let mut best: Option<(glam::DQuat, tones::Luminance, f64, f64)> = None;
-    for (q, fit_gain) in candidates.filter(|(q, _)| q.to_axis_angle().1 > 0.0) {
-        view.geometry = register::turned(g, scene, q);
-        if let Some(reading) = tones::held(view, toned) {
-            let outside = reading.outside();
-            if best.as_ref().is_none_or(|b| outside < b.2) {
-                best = Some((q, reading, outside, fit_gain));
-            }
-        }
-    }
-    let gain = (1.0 - register::MIN_GAIN) * at_scene.outside();
-    match best {
-        // Strictly less: a painting whose tones every reading holds exactly cannot tell.
-        Some((q, reading, outside, fit_gain))
-            if outside < register::CLEAR_GAIN * at_scene.outside() || (outside < gain && fit_gain <= 1.0 - register::MIN_GAIN) =>
-        {
-            view.geometry = register::turned(g, scene, q);
-            Some((Some(register::Turn::by(q, at_scene.outside(), outside, true)), reading))
-        }
-        _ => {
-            view.geometry = scene.clone();
-            Some((None, at_scene))
-        }
-    }
-}
-
-/// How far a toned view's tones may be left under the scene's light ([`tones::Luminance::outside`])
-/// before [`turn_on_tones`] also tries the lights its brightest tone points to (each costs a
-/// reading of the tones, 0.12–0.14 s at 512²). Clean toned paintings are held to
-/// 0.0000–0.0006, brushed ones with every fault to 0.02–0.05, and the glossy ones painted 10°
-/// off to 0.19–0.36 (the faults study).
-const UNEXPLAINED_TONES: f64 = 0.1;
 
 /// Loads each (scene, painting) pair as a view and checks they paint one model (thesis
 /// 4.4). A painting made on the sheet's page loses the page's own pixels (its lines and its
@@ -426,7 +145,7 @@ pub fn load_views(sampler: &mut SceneSampler, pairs: &[(PathBuf, PathBuf)], eros
     for (scene_path, image_path) in pairs {
         let (scene, view, gbuffer, left) = sampler.load_painted_view(scene_path, image_path, erosion)?;
         if let Some(left) = left {
-            loaded.notes.push(left.describe(&view.name));
+            loaded.notes.push(left.note(&view.name));
         }
         match &first {
             None => first = Some((scene, scene_path.display().to_string())),
@@ -477,9 +196,24 @@ pub struct Fitted {
     /// For a material map or hybrid: how its terms were found, and the one-product material
     /// of the same samples, for comparison.
     pub map: Option<(MapReport, Material)>,
+    /// What the fit tells the user (also in the material's provenance, as lines).
+    pub notes: Vec<Note>,
 }
 
 impl Fitted {
+    /// Sets the fit's notes, in the material's provenance too.
+    pub fn set_notes(&mut self, notes: Vec<Note>) {
+        self.material.provenance.notes = notes.iter().map(Note::to_string).collect();
+        self.notes = notes;
+    }
+
+    /// Puts `notes` (how the paintings were read) before the fit's own.
+    pub fn prepend_notes(&mut self, notes: &[Note]) {
+        let mut all = notes.to_vec();
+        all.append(&mut self.notes);
+        self.set_notes(all);
+    }
+
     /// The material's errors on the samples (a material map's own, not its first product's).
     pub fn errors(&self) -> Errors {
         self.material.provenance.errors.unwrap_or(self.solved.fit.errors)
@@ -542,7 +276,7 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
     if opts.kind != Kind::Uniform && !samples.pattern.has_uv {
         let scene = views.first().map_or("the scene", |v| v.source.as_str());
         return Err(Error::input(format!(
-            "{scene}: the model has no texture coordinates, which --kind {} needs (a uv table or coefficient textures)",
+            "{scene}: the model has no texture coordinates, which a {} material needs (a uv table or coefficient textures)",
             opts.kind.name()
         )));
     }
@@ -567,7 +301,7 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
         // The base re-solves on the same prepared system: one more solve, and the lobe's
         // own fit (BENCHMARKS.md: about 58 ms for 7.6k samples, seven lobe families).
         let (p, s) = (&solved.prepared, &samples);
-        if let Some(based) = Material::fit_based(p, &s.pattern, &s.values, &solved.fit, &settings, opts.mapping, opts.base, views.len() == 1, provenance.clone())? {
+        if let Some(based) = crate::read::lobe::fit_based(p, &s.pattern, &s.values, &solved.fit, &settings, opts.mapping, opts.base, views.len() == 1, provenance.clone())? {
             uniform = based;
         }
     }
@@ -583,22 +317,17 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
             (m, Some((report, uniform)))
         }
     };
-    let mut fitted = Fitted { material, samples, solved, map };
-    fitted.material.provenance.notes = diagnose(views, &fitted, opts.kind);
+    let mut fitted = Fitted { material, samples, solved, map, notes: Vec::new() };
+    let mut notes = diagnose(views, &fitted, opts.kind);
     if headlit {
-        fitted.material.provenance.notes.push(
-            "the paintings are lit from the eye: they show each point under one angle between light, view and normal, so the shading's falloff was given to the light (as cos θ_l) where they leave it open; a second view painted under a side light (--scene S2 --image P2) shows how the material answers a moving light".to_string(),
-        );
+        notes.push(Note::Headlit);
     }
-    if let Some(note) = fresnel_unseen(&fitted) {
-        fitted.material.provenance.notes.push(note);
-    }
+    notes.extend(fresnel_unseen(&fitted));
     if added && opts.difference == DifferenceChoice::Auto {
         let [lo, hi] = difference_range(&fitted.samples.pattern);
-        fitted.material.provenance.notes.push(format!(
-            "the paintings show side or back light: the angle between light and half vector goes from {lo:.0}° to {hi:.0}°, so a factor s(θ_d) was added for Fresnel and grazing terms (--theta-d off leaves it out)"
-        ));
+        notes.push(Note::DifferenceFactor { lo_deg: lo, hi_deg: hi });
     }
+    fitted.set_notes(notes);
     Ok(fitted)
 }
 
@@ -608,23 +337,18 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
 /// highlight under rim light too dim. Measured on a GGX $\alpha = 0.05$ sphere (BENCHMARKS.md,
 /// "The sharp highlight's rim"): the rim view's peak 0.769 of the truth from the three
 /// standard paintings, 0.998 from three that include side and back light.
-fn fresnel_unseen(fitted: &Fitted) -> Option<String> {
+fn fresnel_unseen(fitted: &Fitted) -> Option<Note> {
     let base = fitted.material.terms.first().and_then(|t| t.base)?;
     let [_, reach] = difference_range(&fitted.samples.pattern);
     let lobe = base.specular.iter().sum::<f64>() > 0.0 && base.lobe.fresnel_from_data();
-    (lobe && reach < DIFFERENCE_REACH_DEG).then(|| {
-        format!(
-            "the paintings show light and half vector at most {reach:.0}° apart, too close to see Fresnel: the {} highlight was given none, so under light from the side or behind it stays as bright as head-on where a real glossy material grows brighter; a view painted under side or back light shows by how much",
-            base.lobe.name()
-        )
-    })
+    (lobe && reach < DIFFERENCE_REACH_DEG).then(|| Note::FresnelUnseen { reach_deg: reach, lobe: base.lobe.name() })
 }
 
 /// What a user can act on, one line each (they go into the material's provenance): per
 /// view, the samples among the pixels that see the object and why the others are not
 /// samples; and a warning with a next step when one uniform material does not explain the
 /// painting: its error is organized by region on the surface.
-pub fn diagnose(views: &[PaintedView], fitted: &Fitted, kind: Kind) -> Vec<String> {
+pub fn diagnose(views: &[PaintedView], fitted: &Fitted, kind: Kind) -> Vec<Note> {
     let mut notes = Vec::new();
     for (k, v) in views.iter().enumerate() {
         let g = &v.geometry;
@@ -632,26 +356,17 @@ pub fn diagnose(views: &[PaintedView], fitted: &Fitted, kind: Kind) -> Vec<Strin
         let usable = g.usable_count();
         let unpainted = (0..g.pixels.len()).filter(|&i| g.usable[i] && !v.painting.painted(i)).count();
         let samples = fitted.samples.per_view.get(k).copied().unwrap_or(0);
-        let strays = match g.left_out {
-            0 => String::new(),
-            n => format!("; {n} left out as stray strokes"),
-        };
-        notes.push(format!(
-            "{}: {samples} samples of the {object} pixels that see the object ({} in the silhouette band, --erode; {unpainted} unpainted{strays})",
-            v.name,
-            object - usable - g.left_out
-        ));
+        let silhouette = object - usable - g.left_out;
+        notes.push(Note::Samples { painting: v.name.clone(), samples, object, silhouette, unpainted, strays: g.left_out });
     }
-    if let Some(w) = regional_warning(fitted, kind) {
-        notes.push(w);
-    }
+    notes.extend(regional_warning(fitted, kind));
     notes
 }
 
 /// The residual of a uniform fit, log(painting / fit) averaged over cells of a 12² uv
 /// grid: when the cells' means hold most of its variance and the relative error is
 /// large, the painting shows different materials in different places.
-fn regional_warning(fitted: &Fitted, kind: Kind) -> Option<String> {
+fn regional_warning(fitted: &Fitted, kind: Kind) -> Option<Note> {
     const CELLS: usize = 12;
     let e = fitted.errors();
     if kind != Kind::Uniform || !fitted.samples.pattern.has_uv || e.rms_relative < 0.1 {
@@ -678,11 +393,5 @@ fn regional_warning(fitted: &Fitted, kind: Kind) -> Option<String> {
     let mean = all.iter().map(|x| x.1).sum::<f64>() / all.len() as f64;
     let total: f64 = all.iter().map(|x| (x.1 - mean).powi(2)).sum();
     let between: f64 = all.iter().map(|&(c, _)| (sums[c].0 / sums[c].1 as f64 - mean).powi(2)).sum();
-    (total > 0.0 && between / total > 0.5).then(|| {
-        format!(
-            "warning: this does not look like one uniform material: {:.0}% of the error is organized by region on the surface (relative RMS {:.2}); try --kind material-map, with a second view (thesis 4.2, 4.4)",
-            100.0 * between / total,
-            e.rms_relative
-        )
-    })
+    (total > 0.0 && between / total > 0.5).then(|| Note::Regional { percent: 100.0 * between / total, rms: e.rms_relative })
 }

@@ -156,7 +156,7 @@ fn analytic_paintings_generalize_despite_brush_noise() {
 #[test]
 fn measured_like_paint_generalizes_from_one_view_and_two() {
     // Thesis 4.4: a second view constrains the factors that one view leaves free. On one
-    // brushed painting the analytic lobe now does it (`factor::base::TEXTURE_CREDIT`): the
+    // brushed painting the analytic lobe now does it (`read::lobe::TEXTURE_CREDIT`): the
     // product alone held the brush in rings, and one view was held out at 0.087 against
     // two views' 0.037; now 0.019, and two views as before.
     let held = |name: &str| -> f64 { column(&runs().first.stdout, name, HELD_OUT).parse().unwrap() };

@@ -199,7 +199,7 @@ fn one_d_factors_match_monte_carlo() {
 /// worst 5.2%, mean 0.65% with 64 directions; 1.4%, 0.17% with 256).
 #[test]
 fn a_term_over_an_analytic_base_matches_monte_carlo() {
-    use brdfpaint::factor::base::{Base, Lobe};
+    use brdfpaint::brdf::lobe::{Base, Lobe};
     let base = Base { ambient: [0.0; 3], diffuse: [0.2, 0.15, 0.1], specular: [0.3, 0.3, 0.35], fresnel: [0.5, 0.5, 0.45], alpha: 0.3, lobe: Lobe::Ggx };
     let material = uniform(Term {
         base: Some(base),

@@ -176,7 +176,7 @@ fn theta_d_adds_a_difference_factor() {
     // The front-lit painting's GGX lobe has no Fresnel it could see, and the note says so;
     // the side-lit painting shows it.
     let fresnel = |m: &Material| m.provenance.notes.iter().any(|n| n.contains("too close to see Fresnel"));
-    assert_eq!(front.terms[0].base.map(|b| b.lobe), Some(brdfpaint::factor::base::Lobe::Ggx), "{:?}", front.terms[0].base);
+    assert_eq!(front.terms[0].base.map(|b| b.lobe), Some(brdfpaint::brdf::lobe::Lobe::Ggx), "{:?}", front.terms[0].base);
     assert!(fresnel(&front), "{:?}", front.provenance.notes);
     assert!(!fresnel(&auto), "{:?}", auto.provenance.notes);
     assert_eq!(with.terms[0].factors[1].spec.warp, brdfpaint::factor::defaults::WARP_HALF);
@@ -381,7 +381,7 @@ fn stray_strokes_are_repainted_unless_kept() {
 /// lobe of its exponent, a velvet painting none.
 #[test]
 fn base_auto_keeps_the_lobe_of_the_paintings_family_only() {
-    use brdfpaint::factor::base::Lobe;
+    use brdfpaint::brdf::lobe::Lobe;
     use brdfpaint::study::{sphere_rms, suite::held_out};
     let dir = tempfile::tempdir().unwrap();
     let side = Preset { light_in_view: [1.0, 0.2, -0.15], ..Preset::default() };

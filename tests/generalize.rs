@@ -95,7 +95,7 @@ fn a_sharp_highlight_peaks_within_15_percent_on_held_out_views() {
 /// difference; `fit` says so in a note).
 #[test]
 fn a_sharp_highlight_peaks_within_15_percent_on_every_view_from_paintings_that_show_grazing_light() {
-    use brdfpaint::factor::base::BaseChoice;
+    use brdfpaint::read::lobe::BaseChoice;
     use brdfpaint::study::suite::{paintings, peaks_based, sharp_model, wide_paintings};
     let model = sharp_model();
     let ratios = |painted: Vec<brdfpaint::brdf::SphereView>| -> Vec<(&'static str, f64)> {
@@ -110,7 +110,7 @@ fn a_sharp_highlight_peaks_within_15_percent_on_every_view_from_paintings_that_s
     assert!(standard.iter().any(|(v, r)| *v == "rim" && *r < 0.85), "{standard:?}");
 }
 
-/// Issue 15's analytic base (`factor::base`): a GGX sphere (roughness 0.2, α = 0.04) from
+/// Issue 15's analytic base (`brdf::lobe`): a GGX sphere (roughness 0.2, α = 0.04) from
 /// the three standard paintings, judged on the rim-light view no painting resembles. With
 /// the default `auto` base the lobe fits the paintings (misfit below 1e-4) and carries the
 /// masking and 1/(cos θ_l cos θ_v) to the rim: measured rim error 0.23 (all five views
@@ -120,7 +120,7 @@ fn a_sharp_highlight_peaks_within_15_percent_on_every_view_from_paintings_that_s
 #[test]
 fn an_analytic_base_carries_a_ggx_sphere_to_rim_light() {
     use brdfpaint::brdf::Analytic;
-    use brdfpaint::factor::base::BaseChoice;
+    use brdfpaint::read::lobe::BaseChoice;
     use brdfpaint::study::suite::{measure_based, paintings};
     let model = [Analytic::Ggx { diffuse: [0.40, 0.25, 0.12], f0: [0.50, 0.42, 0.35], roughness: 0.2 }];
     let rim = 3; // study::suite::held_out's order: held-1..3, rim, side
@@ -134,13 +134,14 @@ fn an_analytic_base_carries_a_ggx_sphere_to_rim_light() {
 /// painting of a GGX sphere (roughness 0.7) with 5% multiplicative grain per pixel misfits
 /// its own lobe by far more than the clean threshold (0.015), but its free product misfits it
 /// about as much: the grain is the painting's, not the lobe's, so `auto` keeps the lobe
-/// (`factor::base::excess`) and the fit carries it to lights and views nobody painted. A grainy
+/// (`read::lobe::excess`) and the fit carries it to lights and views nobody painted. A grainy
 /// velvet painting (a sheen of no lobe family) misfits every lobe beyond its grain and keeps
 /// none. Judged against the clean truth on the suite's five held-out views (measured 0.021
 /// with the lobe, 0.132 without).
 #[test]
 fn a_grainy_painting_keeps_the_lobe_its_grain_explains() {
-    use brdfpaint::factor::base::{solve_based, Base, BaseChoice, AUTO_MISFIT};
+    use brdfpaint::read::lobe::{solve_based, BaseChoice, AUTO_MISFIT};
+use brdfpaint::brdf::lobe::Base;
     use brdfpaint::study::relative_rms;
     use brdfpaint::study::suite::{held_out, paintings};
     let settings = Settings::default();
@@ -166,7 +167,7 @@ fn a_grainy_painting_keeps_the_lobe_its_grain_explains() {
     let velvet = Analytic::Velvet { diffuse: [0.30, 0.05, 0.12], sheen: [0.60, 0.35, 0.50], roughness: 0.35 };
     // With 10% grain the painting's roughness (0.10) is far above the lobe's 0.039 beyond
     // it, but it is grain, which the product does not hold, not texture
-    // (`factor::base::grain`): kept, the lobe was held out at 0.176 against about 0.03.
+    // (`read::lobe::grain`): kept, the lobe was held out at 0.176 against about 0.03.
     for grain in [0.05, 0.10] {
         let (lobe, (kept, auto), none) = judge(&velvet, grain);
         eprintln!("velvet, {grain} grain: lobe misfit {lobe:.4}, kept {kept}, held-out auto {auto:.4}, none {none:.4}");
@@ -175,14 +176,14 @@ fn a_grainy_painting_keeps_the_lobe_its_grain_explains() {
 }
 
 /// Issue 15's targets on the 23-model wide suite, with the default `auto` base (a lobe of
-/// the family that explains the paintings, when one does: `factor::base::Lobe`), judged on
+/// the family that explains the paintings, when one does: `brdf::lobe::Lobe`), judged on
 /// the five held-out views pooled: one painting median ≤ 0.03, three paintings ≤ 0.015
 /// (measured 0.0147 and 0.0060; the plain product 0.0843 and 0.0330). A Phong sphere, which no
 /// table of θ_h holds, is carried to the rim light by its Phong lobe from one painting
 /// (measured rim view 0.0000, plain 0.687).
 #[test]
 fn the_wide_suite_meets_its_one_and_three_painting_targets() {
-    use brdfpaint::factor::base::BaseChoice;
+    use brdfpaint::read::lobe::BaseChoice;
     use brdfpaint::study::suite::{measure_based, paintings};
     let models = Analytic::wide_suite();
     let median_of = |rows: &[brdfpaint::study::suite::Row]| brdfpaint::study::median(&rows.iter().map(|r| r.held_out).collect::<Vec<_>>());

@@ -412,7 +412,7 @@ fn frame_times_at_1024() {
     }
 }
 
-/// A term over an analytic base (issue 15, `factor::base`) of each lobe family: the GLSL
+/// A term over an analytic base (issue 15, `brdf::lobe`) of each lobe family: the GLSL
 /// lobe of `shaders/term.glsl` against `Base::shading` in f64 times the CPU tables, in every
 /// test scene (back light and grazing views included, where the lobe's Fresnel, masking
 /// and grazing rise matter). The lobe is evaluated in f32 on the GPU; measured worst 1.5e-5
@@ -421,7 +421,7 @@ fn frame_times_at_1024() {
 /// narrow Gaussian, Minnaert's k = 0.75 a brightening limb; Oren-Nayar has no width.
 #[test]
 fn a_term_over_an_analytic_base_matches_the_cpu() {
-    use brdfpaint::factor::base::{Base, Lobe};
+    use brdfpaint::brdf::lobe::{Base, Lobe};
     let ctx = HeadlessContext::new().unwrap();
     for (lobe, alpha) in Lobe::ALL.into_iter().zip([0.15, 0.15, 0.45, 0.2, 0.3, 1.0, 0.75]) {
         let base = Base { ambient: [0.02, 0.03, 0.01], diffuse: [0.5, 0.3, 0.2], specular: [0.4, 0.5, 0.6], fresnel: [0.6, 0.5, 0.3], alpha, lobe };

@@ -201,7 +201,7 @@ fn measured_data_becomes_a_material_that_matches_it_on_new_directions() {
     assert!(rel < 0.03, "relative RMS {rel}");
 }
 
-/// Version 3 added a term's analytic base (`factor::base`). A version 2 file (the v1
+/// Version 3 added a term's analytic base (`brdf::lobe`). A version 2 file (the v1
 /// fixture's tables under version 2, which is how a v2 file without warps or θ_d factors
 /// reads: tests/data/material-v2) loads without a base and shades like the v1 fixture; a
 /// based material survives a save and load, base and all, whatever its lobe's family (a
@@ -209,7 +209,8 @@ fn measured_data_becomes_a_material_that_matches_it_on_new_directions() {
 /// family is refused on load.
 #[test]
 fn version_2_loads_and_a_base_round_trips() {
-    use brdfpaint::factor::base::{solve_based, Base, BaseChoice, Lobe};
+    use brdfpaint::read::lobe::{solve_based, BaseChoice};
+use brdfpaint::brdf::lobe::{Base, Lobe};
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
     let v2 = Material::load(&data.join("material-v2")).unwrap();
     let v1 = Material::load(&data.join("material-v1")).unwrap();

@@ -2,7 +2,7 @@
 //! renders committed in tests/data/mitsuba/ (tools/mitsuba/render_suite.py), so this runs
 //! without Mitsuba. `cargo run --release --example mitsuba_suite` prints the table.
 
-use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::sample::SceneSampler;
 use brdfpaint::study::rendered::{self, median_of_medians, worst_view, Row, Suite};
 

@@ -1,13 +1,14 @@
-//! Paintings read as evidence (issue 11, `pipeline::read`): a shading painted a few degrees
-//! off the scene's light is fitted with the painter's light (`sample::register`), and flat
-//! tones are read as the smooth shading between their edges (`sample::tones`). Judged
+//! Paintings read as evidence (issue 11, `read::Reader`): a shading painted a few degrees
+//! off the scene's light is fitted with the painter's light (`read::register`), and flat
+//! tones are read as the smooth shading between their edges (`read::tones`). Judged
 //! against the clean truth: the painter's true light, the clean painting, held-out views.
 
 use brdfpaint::brdf::Analytic;
-use brdfpaint::factor::base::Lobe;
+use brdfpaint::brdf::lobe::Lobe;
 use brdfpaint::factor::{Mapping, Settings};
-use brdfpaint::pipeline::{self, Reading};
-use brdfpaint::sample::{register, strays, tones, SceneSampler};
+use brdfpaint::read::Reading;
+use brdfpaint::read::{register, strays, tones};
+use brdfpaint::sample::SceneSampler;
 use brdfpaint::scene::Light;
 use brdfpaint::study::faults::{self, FaultyView, Faults};
 use brdfpaint::study::fidelity::{held_out_presets, painted_presets, StudyView};
@@ -28,7 +29,7 @@ fn held_out_median(f: &Faults, reading: Reading) -> f64 {
     let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, SIZE).unwrap()).collect();
     let painted = [FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, f.light_off_deg).unwrap()];
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
-    let rows = faults::measure(&painted, &held, &faults::suite(), &Settings::default(), f, &plain, reading, brdfpaint::factor::base::BaseChoice::Auto).unwrap();
+    let rows = faults::measure(&painted, &held, &faults::suite(), &Settings::default(), f, &plain, reading, brdfpaint::read::lobe::BaseChoice::Auto).unwrap();
     median(&rows.iter().map(|r| r.held_out).collect::<Vec<_>>())
 }
 
@@ -52,6 +53,14 @@ fn the_painters_light_is_found_within_two_degrees() {
         assert!(error < 2.0, "{}: {error}° from the painter's light", model.name());
         assert!(turns[0].after < 0.5 * turns[0].before, "{}: {:?}", model.name(), turns[0]);
     }
+}
+
+
+/// The views read as `fit` reads them (`read::Reader`), in place; the notes as lines.
+fn read_views(views: &mut Vec<brdfpaint::sample::PaintedView>, gbuffers: &[&brdfpaint::render::GBuffer]) -> Vec<String> {
+    let evidence = brdfpaint::read::Reader::new(Reading::default(), gbuffers).read(std::mem::take(views)).unwrap();
+    *views = evidence.views;
+    evidence.notes.iter().map(|n| n.to_string()).collect()
 }
 
 /// Minnaert and Oren-Nayar paintings shade their limbs by the view as well as the light,
@@ -101,7 +110,7 @@ fn registered_paintings_generalize_to_held_out_views() {
 }
 
 /// Flat tones painted under a light 10° off the scene's: the light is registered on the
-/// steps as painted (`pipeline::read`), where the interpolation between tone edges held it
+/// steps as painted (`read::Reader`), where the interpolation between tone edges held it
 /// back (5–7° found of the 8° the untoned painting gives) and the tones were then read
 /// through families that make up for it (Minnaert 0.19 held out at 256²).
 #[test]
@@ -114,7 +123,7 @@ fn toned_paintings_lit_off_the_scenes_light_are_registered_on_their_steps() {
     assert!(read < 0.045, "{read}");
 }
 
-/// A posterized painting of `model` (6 levels per channel) read as `pipeline::read` reads
+/// A posterized painting of `model` (6 levels per channel) read as `read::Reader` reads
 /// tones: between tone edges (`tones::smooth`), then through a lobe family or the proxy
 /// (`tones::refine`). Returns what was read, the painting's relative RMS against the clean one
 /// as painted, between edges and refined, and the family read through.
@@ -164,7 +173,7 @@ fn flat_tones_are_read_as_the_smooth_shading() {
 }
 
 /// A highlight sharper than the proxy's Blinn-Phong lobes (GGX α = 0.04, 6 levels per
-/// channel) is read with its own family's microfacet lobe (`sample::tones`): the painting read closer to the
+/// channel) is read with its own family's microfacet lobe (`read::tones`): the painting read closer to the
 /// clean one than the tone edges alone say, and the fit from it closer to the truth on
 /// held-out views.
 #[test]
@@ -176,7 +185,7 @@ fn a_sharp_highlight_in_flat_tones_is_read_with_a_microfacet_lobe() {
     assert_eq!(family.map(|f| f.0), Some(Lobe::Ggx), "{family:?}");
     let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, SIZE).unwrap()).collect();
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
-    let rows = faults::measure(std::slice::from_ref(&view), &held, std::slice::from_ref(&model), &Settings::default(), &Faults::posterized(), &plain, Reading::default(), brdfpaint::factor::base::BaseChoice::Auto).unwrap();
+    let rows = faults::measure(std::slice::from_ref(&view), &held, std::slice::from_ref(&model), &Settings::default(), &Faults::posterized(), &plain, Reading::default(), brdfpaint::read::lobe::BaseChoice::Auto).unwrap();
     eprintln!("ggx 0.2, 6 levels: relative RMS against the clean painting {before:.4} -> {between:.4} -> {refined:.4}; held-out {:.4}", rows[0].held_out);
     // Measured at 128²: the tone edges 0.263, through the Blinn-Phong lobes 0.294 (held-out
     // 0.294), through the microfacet lobe 0.100 (held-out 0.105).
@@ -190,17 +199,17 @@ fn posterized(model: &Analytic, size: usize) -> (Vec<String>, f64) {
     let mut sampler = SceneSampler::new().unwrap();
     let view = FaultyView::new(&mut sampler, &painted_presets(1)[0], size, 0.0).unwrap();
     let mut views = vec![faults::paint(&view, model, &Faults::posterized()).unwrap()];
-    let notes = pipeline::read(&mut views, &[&view.view.gbuffer], &Reading::default()).unwrap();
+    let notes = read_views(&mut views, &[&view.view.gbuffer]);
     let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, size).unwrap()).collect();
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
-    let rows = faults::measure(std::slice::from_ref(&view), &held, std::slice::from_ref(model), &Settings::default(), &Faults::posterized(), &plain, Reading::default(), brdfpaint::factor::base::BaseChoice::Auto).unwrap();
+    let rows = faults::measure(std::slice::from_ref(&view), &held, std::slice::from_ref(model), &Settings::default(), &Faults::posterized(), &plain, Reading::default(), brdfpaint::read::lobe::BaseChoice::Auto).unwrap();
     eprintln!("{}, 6 levels, {size}²: held-out {:.4}; {notes:#?}", model.name(), rows[0].held_out);
     (notes, rows[0].held_out)
 }
 
 /// Six flat tones of an Oren-Nayar sphere (a rough diffuse whose lit side is flatter than
 /// Lambert's) are held by an Oren-Nayar lobe far better than by the proxy's Blinn-Phong lobes
-/// (`sample::tones`, lobe families): `fit` says so in a note, and the material from the
+/// (`read::tones`, lobe families): `fit` says so in a note, and the material from the
 /// painting generalizes to held-out lights and views far better than read through the proxy.
 #[test]
 fn flat_tones_are_read_through_the_lobe_family_that_holds_them() {
@@ -354,7 +363,7 @@ fn strokes_one_tone_off_are_found_through_their_tones() {
 /// puts the brightest tone at the mirror point is judged on the tones instead. Taken, the
 /// highlight sits where it was painted: held-out error 0.835 → 0.321 (seed 4), 0.852 →
 /// 0.232 (5) and 0.996 → 0.460 (6). Since a toned painting's strays are left out and it is
-/// read again (`pipeline::read`), the factored fit sees the 8° turn itself at seeds 4 and 5
+/// read again (`read::Reader`), the factored fit sees the 8° turn itself at seeds 4 and 5
 /// (0.134 and 0.183); at seed 6 the second reading explains nothing and the first is kept.
 #[test]
 fn a_toned_paintings_light_is_taken_from_its_tones_when_the_fit_cannot_tell() {
@@ -365,15 +374,15 @@ fn a_toned_paintings_light_is_taken_from_its_tones_when_the_fit_cannot_tell() {
         let painted = FaultyView::new(&mut sampler, &painted_presets(1)[0], 256, f.light_off_deg).unwrap();
         let model = faults::suite().into_iter().find(|m| m.name() == "ggx-0.2").unwrap();
         let mut views = vec![faults::paint(&painted, &model, &f).unwrap()];
-        let notes = pipeline::read(&mut views, &[&painted.view.gbuffer], &Reading::default()).unwrap();
+        let notes = read_views(&mut views, &[&painted.view.gbuffer]);
         // Judged on the tones, or, once a toned painting's strays are left out and it is read
-        // again (`pipeline::read`), on the factored fit, which then sees the turn itself (seed
+        // again (`read::Reader`), on the factored fit, which then sees the turn itself (seed
         // 4: 0.249 → 0.078 with the light turned 8°).
         let turn = notes.iter().find(|n| n.contains(" lit ") && n.contains("° away")).unwrap_or_else(|| panic!("seed {seed}: {notes:#?}"));
         let degrees: f64 = turn.split(" lit ").nth(1).and_then(|r| r.split('°').next()).and_then(|d| d.parse().ok()).unwrap();
         assert!((6.0..=10.0).contains(&degrees), "seed {seed}: {turn}");
         let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
-        let rows = faults::measure(&[painted], &held, &[model], &Settings::default(), &f, &plain, Reading::default(), brdfpaint::factor::base::BaseChoice::Auto).unwrap();
+        let rows = faults::measure(&[painted], &held, &[model], &Settings::default(), &f, &plain, Reading::default(), brdfpaint::read::lobe::BaseChoice::Auto).unwrap();
         eprintln!("seed {seed}: {turn}\nheld-out {:.4}", rows[0].held_out);
         assert!(rows[0].held_out < bound, "seed {seed}: {}", rows[0].held_out);
     }
@@ -386,7 +395,7 @@ fn paintings_with_every_fault_generalize() {
     let held: Vec<StudyView> = held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, SIZE).unwrap()).collect();
     let painted = [FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, f.light_off_deg).unwrap()];
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
-    let rows = faults::measure(&painted, &held, &faults::suite(), &Settings::default(), &f, &plain, Reading::default(), brdfpaint::factor::base::BaseChoice::Auto).unwrap();
+    let rows = faults::measure(&painted, &held, &faults::suite(), &Settings::default(), &f, &plain, Reading::default(), brdfpaint::read::lobe::BaseChoice::Auto).unwrap();
     let held_out = median(&rows.iter().map(|r| r.held_out).collect::<Vec<_>>());
     let worst = rows.iter().map(|r| r.worst_view).fold(0.0, f64::max);
     eprintln!("all faults: held-out median {held_out:.4}, worst view {worst:.3}");
@@ -417,7 +426,7 @@ fn reading_notes_name_the_painting() {
     let view = FaultyView::new(&mut sampler, &painted_presets(1)[0], SIZE, 10.0).unwrap();
     let model = Analytic::BlinnPhong { diffuse: [0.4, 0.3, 0.2], specular: [0.5; 3], exponent: 128.0 };
     let mut views = vec![faults::paint(&view, &model, &Faults::all()).unwrap()];
-    let notes = pipeline::read(&mut views, &[&view.view.gbuffer], &Reading::default()).unwrap();
+    let notes = read_views(&mut views, &[&view.view.gbuffer]);
     eprintln!("{notes:#?}");
     assert!(notes.iter().any(|n| n.starts_with(&views[0].name) && n.contains("flat tones")), "{notes:?}");
     assert!(notes.iter().any(|n| n.starts_with(&views[0].name) && n.contains("stray strokes")), "{notes:?}");

@@ -6,7 +6,7 @@ use brdfpaint::brdf::{held_out_views, Analytic, SphereView};
 use brdfpaint::demo::brush::SplitMix;
 use brdfpaint::factor::{prepare, LogMap, Mapping, Robust, Settings, BOUND};
 use brdfpaint::brdf::Reflectance;
-use brdfpaint::pipeline::Reading;
+use brdfpaint::read::Reading;
 use brdfpaint::study::median;
 use brdfpaint::study::faults::{self, FaultyView, Faults};
 use brdfpaint::study::fidelity::{held_out_presets, painted_presets, StudyView};
@@ -31,8 +31,8 @@ fn study(f: &Faults) -> (Vec<faults::Row>, Vec<faults::Row>) {
     let plain = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve(v, Mapping::Auto);
     let robust = |p: &brdfpaint::factor::Prepared, v: &[[f64; 3]]| p.solve_robust(v, Mapping::Auto, &Robust::default());
     (
-        faults::measure(&painted, &held, &models, &settings, f, &plain, Reading { smooth_tones: false, register_light: false, repaint_strays: false }, brdfpaint::factor::base::BaseChoice::None).unwrap(),
-        faults::measure(&painted, &held, &models, &settings, f, &robust, Reading { smooth_tones: false, register_light: false, repaint_strays: false }, brdfpaint::factor::base::BaseChoice::None).unwrap(),
+        faults::measure(&painted, &held, &models, &settings, f, &plain, Reading { smooth_tones: false, register_light: false, repaint_strays: false }, brdfpaint::read::lobe::BaseChoice::None).unwrap(),
+        faults::measure(&painted, &held, &models, &settings, f, &robust, Reading { smooth_tones: false, register_light: false, repaint_strays: false }, brdfpaint::read::lobe::BaseChoice::None).unwrap(),
     )
 }
 
@@ -141,7 +141,7 @@ fn auto_does_not_buy_a_tiny_gain_with_inverted() {
 /// analytic base `auto` and with none (the product alone), judged on held-out lights and
 /// views against the clean truth: the nine models' rows, and the median of each.
 fn brushed(size: usize, faults: &Faults) -> ((Vec<faults::Row>, f64), (Vec<faults::Row>, f64)) {
-    use brdfpaint::factor::base::BaseChoice;
+    use brdfpaint::read::lobe::BaseChoice;
     let (held, painted) = views(size, faults.light_off_deg);
     let models = faults::suite();
     let settings = Settings::default();
@@ -156,7 +156,7 @@ fn brushed(size: usize, faults: &Faults) -> ((Vec<faults::Row>, f64), (Vec<fault
 
 /// Brush texture on one painting goes to no table: `fit`'s path (the painting read, the
 /// analytic base under `auto`) keeps the lobe of the painting's family over the product's
-/// rings (`factor::base::TEXTURE_CREDIT`, `correction_weight`). Judged on held-out lights
+/// rings (`read::lobe::TEXTURE_CREDIT`, `correction_weight`). Judged on held-out lights
 /// and views against the clean truth, nine models, against the same fit with the product
 /// alone. Measured at 128² (seed 11): 0.0242 with the lobe, 0.0551 with the product alone
 /// (Lambert 0.011 against 0.026, Oren-Nayar 0.013 against 0.058).
@@ -172,7 +172,7 @@ fn brush_texture_goes_to_no_table() {
 
 /// Noise over the brush texture (1% of sRGB per channel, as a scan or a photographed canvas
 /// has) is not texture: independent from pixel to pixel, every table bin averages it away,
-/// so the lobe is kept as without it (`factor::base::texture` reads the residual's
+/// so the lobe is kept as without it (`read::lobe::texture` reads the residual's
 /// covariance between neighbouring pixels, which the noise does not change). Measured at
 /// 128², brush seed 2: 0.0321 with the lobe, 0.0575 with the product alone; before the
 /// covariance the noise read as more than all the texture and no lobe was kept (0.0575).
@@ -202,14 +202,14 @@ fn a_collapsed_stray_search_still_finds_the_strokes() {
 }
 
 /// Stray strokes in flat tones are left out, and the painting read again without them
-/// (`pipeline::read`, `sample::strays`' toned rim): a stroke in flat tones is tones of its own,
+/// (`read::Reader`, `read::strays`' toned rim): a stroke in flat tones is tones of its own,
 /// which the interpolation between edges and the light's registration read before the stray
 /// search finds it. 256², six tones and eight strokes (seed 1), judged on held-out lights and
 /// views against the clean truth. Measured: GGX 0.2 0.105, GGX 0.7 0.018, Oren-Nayar 0.008;
 /// repainted in place as before, 0.205, 0.084 and 0.023.
 #[test]
 fn strokes_in_flat_tones_are_read_again_without_them() {
-    use brdfpaint::factor::base::BaseChoice;
+    use brdfpaint::read::lobe::BaseChoice;
     let f = Faults { seed: 1, strays: 8, levels: 6, ..Faults::clean() };
     let (held, painted) = views(256, 0.0);
     let models: Vec<Analytic> = faults::suite().into_iter().filter(|m| ["ggx-0.2", "ggx-0.7", "oren-nayar-0.5"].contains(&m.name().as_str())).collect();
@@ -221,11 +221,18 @@ fn strokes_in_flat_tones_are_read_again_without_them() {
         assert!(row.held_out < bound, "{name}: held out {:.4}", row.held_out);
     }
     // What the user reads: the strokes left out, and counted apart from the silhouette band.
-    let mut view = [faults::paint(&painted[0], &models[1], &f).unwrap()];
+    let mut view = vec![faults::paint(&painted[0], &models[1], &f).unwrap()];
     let band = view[0].geometry.pixels.iter().filter(|p| p.is_some()).count() - view[0].geometry.usable_count();
-    let notes = brdfpaint::pipeline::read(&mut view, &[&painted[0].view.gbuffer], &Reading::default()).unwrap();
+    let notes = read_views(&mut view, &[&painted[0].view.gbuffer]);
     let g = &view[0].geometry;
     assert!(g.left_out > 300, "left out {}", g.left_out);
     assert_eq!(g.pixels.iter().filter(|p| p.is_some()).count() - g.usable_count() - g.left_out, band);
     assert!(notes.iter().any(|n| n.contains(&format!("{} painted pixels read as stray strokes", g.left_out)) && n.contains("left out")), "{notes:#?}");
+}
+
+/// The views read as `fit` reads them (`read::Reader`), in place; the notes as lines.
+fn read_views(views: &mut Vec<brdfpaint::sample::PaintedView>, gbuffers: &[&brdfpaint::render::GBuffer]) -> Vec<String> {
+    let evidence = brdfpaint::read::Reader::new(Reading::default(), gbuffers).read(std::mem::take(views)).unwrap();
+    *views = evidence.views;
+    evidence.notes.iter().map(|n| n.to_string()).collect()
 }

@@ -9,6 +9,8 @@
 use glam::DVec3;
 use std::f64::consts::PI;
 
+use super::lobe::ggx_d;
+
 use super::Reflectance;
 use crate::factor::Query;
 
@@ -80,15 +82,6 @@ fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
 /// $\mathbf a + \mathbf b$ for RGB triples.
 fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-/// The GGX normal distribution $D(\mathbf h) = \frac{\alpha^2}{\pi((\alpha^2-1)\cos^2\theta_h+1)^2}$.
-pub(crate) fn ggx_d(cos_h: f64, alpha: f64) -> f64 {
-    let a2 = alpha * alpha;
-    let t = (a2 - 1.0) * cos_h * cos_h + 1.0;
-    // t >= min(a2, 1) > 0 for alpha > 0; the floor only protects alpha = 0 (a mirror), where
-    // D is a delta function we cannot represent anyway.
-    a2 / (PI * (t * t).max(1e-300))
 }
 
 /// Smith's masking term for GGX, one direction:

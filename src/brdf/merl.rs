@@ -93,19 +93,23 @@ impl Merl {
     }
 
     /// Read a `.binary` file. Wrong size, wrong dimensions or non-finite values are errors.
+    /// Read under the file-access policy ([`crate::fsio`]): a FIFO or a device is refused by
+    /// its type, before its size is judged.
     pub fn read(path: &Path) -> Result<Merl> {
-        let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
-        if meta.len() != FILE_BYTES as u64 {
+        let len = crate::fsio::check_regular(path, u64::MAX)?;
+        if len != FILE_BYTES as u64 {
             return Err(Error::format(
                 path,
                 format!(
-                    "{} bytes; a MERL BRDF file has exactly {FILE_BYTES} ({})",
-                    meta.len(),
-                    if meta.len() < FILE_BYTES as u64 { "truncated?" } else { "trailing data?" }
+                    "{len} bytes; a MERL BRDF file has exactly {FILE_BYTES} ({})",
+                    if len < FILE_BYTES as u64 { "truncated?" } else { "trailing data?" }
                 ),
             ));
         }
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let bytes = crate::fsio::read_regular(path, FILE_BYTES as u64)?;
+        if bytes.len() != FILE_BYTES {
+            return Err(Error::format(path, format!("{} bytes read of {FILE_BYTES} (truncated while read?)", bytes.len())));
+        }
         let dims: Vec<i32> = bytes[..HEADER].chunks_exact(4).map(|b| i32::from_le_bytes(b.try_into().unwrap())).collect();
         if dims != [THETA_H as i32, THETA_D as i32, PHI_D as i32] {
             return Err(Error::format(path, format!("dimensions {dims:?}, expected [90, 90, 180]")));

@@ -4,6 +4,8 @@
 
 mod analytic;
 mod fits;
+pub mod lobe;
+pub mod lobe_fit;
 mod merl;
 mod sphere;
 mod striped;

@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use super::{Analytic, Reflectance, SphereView};
 use crate::factor::{Pattern, Query};
-use crate::material::map::Grid;
+use crate::factor::Grid;
 
 /// Two BRDFs in alternating bands of equal width in $u$ (band 0, at $u = 0$, is `a`).
 #[derive(Clone, Debug, PartialEq)]

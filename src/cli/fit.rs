@@ -13,9 +13,10 @@ use super::Failure;
 use brdfpaint::brdf::Merl;
 use brdfpaint::error::{Error, Result};
 use brdfpaint::factor::cache::{Cache, Outcome};
-use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::factor::{prepare, DifferenceChoice, Fit, Mapping, Pattern, Settings};
 use brdfpaint::litsphere;
+use brdfpaint::note::{Note, Remedy};
 use brdfpaint::material::{map, Kind, Material};
 use brdfpaint::pipeline::{self, Options};
 use brdfpaint::sample::{Erosion, Neighbours, SceneSampler};
@@ -124,7 +125,7 @@ pub(super) struct FitArgs {
     #[arg(long, value_enum)]
     map_fit: Option<MapFitArg>,
     /// Laplacian smoothing weight of every factor (default: 1e-5 for 1D, 1e-4 for 2D).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     lambda: Option<f64>,
     /// Log mapping: auto, identity, offset[:A], inverted[:A].
     #[arg(long, default_value = "auto")]
@@ -139,8 +140,8 @@ pub(super) struct FitArgs {
     base: BaseChoice,
     /// Pixels removed along the silhouette: a pixel within N steps (8-neighbourhood) of the
     /// background is not a sample.
-    #[arg(long, value_name = "N", default_value_t = 1)]
-    erode: usize,
+    #[arg(long, value_name = "N", default_value_t = 1, allow_negative_numbers = true)]
+    erode: i64,
     /// MERL sampling density k: 2k³ (light, view) pairs.
     #[arg(long, default_value_t = 16)]
     density: usize,
@@ -166,6 +167,9 @@ impl KindArg {
     }
 }
 
+/// Most pixels `--erode` removes along the silhouette.
+const MAX_ERODE: i64 = 64;
+
 /// Checks the flags against each other and builds the pipeline's options.
 fn options(args: &FitArgs) -> Result<Options> {
     if args.kind != KindArg::Uniform && (args.merl.is_some() || args.lit_sphere.is_some()) {
@@ -185,6 +189,9 @@ fn options(args: &FitArgs) -> Result<Options> {
     if args.map_fit.is_some() && matches!(args.kind, KindArg::Uniform | KindArg::FourFactor) {
         return Err(Error::input("--map-fit applies to the material-map and hybrid kinds"));
     }
+    if let Some(l) = args.lambda.filter(|l| !(l.is_finite() && *l >= 0.0)) {
+        return Err(Error::input(format!("--lambda {l}: the smoothing weight is a finite number, 0 or more")));
+    }
     let mut opts = Options::new(args.kind.kind(), args.factors.dim(), args.res, args.lambda, args.uv_res)?;
     opts.difference = args.theta_d;
     opts.mapping = args.mapping;
@@ -193,8 +200,8 @@ fn options(args: &FitArgs) -> Result<Options> {
         Some(MapFitArg::Greedy) => map::Method::Greedy,
         Some(MapFitArg::Cluster) | None => map::Method::Cluster,
     };
-    if args.erode > 64 {
-        return Err(Error::input(format!("--erode {} is more than the 64 pixels allowed", args.erode)));
+    if !(0..=MAX_ERODE).contains(&args.erode) {
+        return Err(Error::input(format!("--erode {}: give 0 to {MAX_ERODE} pixels", args.erode)));
     }
     Ok(opts)
 }
@@ -252,7 +259,7 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
     let provenance =
         pipeline::provenance(vec![merl_path.display().to_string()], Some(fit.errors), pattern.len(), prepared.prepare_s, solve_s);
     let plain = Material::from_fit(settings, &fit, provenance.clone())?;
-    let material = Material::fit_based(&prepared, &pattern, &values, &fit, settings, args.mapping, args.base, false, provenance)?.unwrap_or(plain);
+    let material = brdfpaint::read::lobe::fit_based(&prepared, &pattern, &values, &fit, settings, args.mapping, args.base, false, provenance)?.unwrap_or(plain);
     pipeline::save_material(&material, &args.out, &[merl_path])?;
     println!(
         "{} samples, {} unknowns: prepare {:.1} ms ({}), solve {:.2} ms",
@@ -301,8 +308,8 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
         None => println!("light ({:.2}, {:.2}, {:.2}) as given", l.x, l.y, l.z),
     }
     let fitted = &lit.fitted;
-    for note in &fitted.material.provenance.notes {
-        println!("{note}");
+    for note in &fitted.notes {
+        say(note);
     }
     let views = std::slice::from_ref(&lit.view);
     // The scene goes into the material directory with it, in one commit.
@@ -325,6 +332,26 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
         scene_path.display()
     );
     Ok(())
+}
+
+/// Prints a note, with the option that changes what it describes.
+pub(super) fn say(note: &Note) {
+    let hint = note.remedy().map(|r| match r {
+        Remedy::KeepTones => "--keep-tones fits the tones as painted",
+        Remedy::KeepLight => "--keep-light uses the scene's as given",
+        Remedy::KeepStrokes => "--keep-strokes fits them as painted",
+        Remedy::Erode => "--erode sets the silhouette band",
+        Remedy::SecondView => "add one with --scene S2 --image P2",
+        Remedy::NoDifferenceFactor => "--theta-d off leaves it out",
+        Remedy::MaterialMap => "try --kind material-map",
+        Remedy::CameraDirection => "for a world-space normal map give --camera-dir X,Y,Z, toward the camera in the map's frame",
+        Remedy::Encoding => "--encoding srgb|linear says how",
+    });
+    let prefix = if note.is_warning() { "" } else { "note: " };
+    match hint {
+        Some(hint) => println!("{prefix}{note} ({hint})"),
+        None => println!("{prefix}{note}"),
+    }
 }
 
 /// One line on the material's analytic base, when it has one.
@@ -357,10 +384,10 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
     let erosion = erosion(args);
     let pairs: Vec<(PathBuf, PathBuf)> = args.scene.iter().cloned().zip(args.image.iter().cloned()).collect();
     let mut loaded = pipeline::load_views(&mut sampler, &pairs, erosion)?;
-    loaded.read(&pipeline::Reading { smooth_tones: !args.keep_tones, register_light: !args.keep_light, repaint_strays: !args.keep_strokes }, opts.kind)?;
+    loaded.read(&brdfpaint::read::Reading { smooth_tones: !args.keep_tones, register_light: !args.keep_light, repaint_strays: !args.keep_strokes }, opts.kind)?;
     let pipeline::Loaded { views, notes, .. } = loaded;
     for note in &notes {
-        println!("note: {note}");
+        say(note);
     }
     let inputs: Vec<&Path> = args.scene.iter().chain(&args.image).map(PathBuf::as_path).collect();
     fit_and_save(args, opts, &views, notes, &inputs)
@@ -368,17 +395,18 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
 
 /// The silhouette erosion of --erode.
 fn erosion(args: &FitArgs) -> Erosion {
-    Erosion { radius: args.erode, neighbours: Neighbours::Eight }
+    // Checked to lie in 0..=MAX_ERODE by `options`.
+    Erosion { radius: args.erode as usize, neighbours: Neighbours::Eight }
 }
 
 /// Fits views read (and noted) by the caller through the pipeline, writes the material,
 /// keeping `inputs` found in the output folder, and prints the errors.
-fn fit_and_save(args: &FitArgs, opts: &Options, views: &[brdfpaint::sample::PaintedView], notes: Vec<String>, inputs: &[&Path]) -> Result<()> {
+fn fit_and_save(args: &FitArgs, opts: &Options, views: &[brdfpaint::sample::PaintedView], notes: Vec<Note>, inputs: &[&Path]) -> Result<()> {
     let opts = &Options { base: args.base, ..opts.clone() };
     let mut fitted = pipeline::fit(views, opts, Cache::user().as_ref())?;
     print_base(&fitted.material);
     // How the paintings were read goes into material.json too, before the fit's own notes.
-    fitted.material.provenance.notes.splice(0..0, notes.iter().cloned());
+    fitted.prepend_notes(&notes);
     if let Some((report, _)) = &fitted.map {
         let what = match opts.map.method {
             map::Method::Greedy => "terms on positive residuals",
@@ -388,8 +416,8 @@ fn fit_and_save(args: &FitArgs, opts: &Options, views: &[brdfpaint::sample::Pain
             println!("{} {what}: RMS {:.5}  relative {:.4}  max {:.4}", k + 1, e.rms, e.rms_relative, e.max);
         }
     }
-    for note in &fitted.material.provenance.notes[notes.len()..] {
-        println!("{note}");
+    for note in &fitted.notes[notes.len()..] {
+        say(note);
     }
     let per_view = fitted.view_errors(views);
     let report_path = fitted.save(views, &args.out, inputs)?;

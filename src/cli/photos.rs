@@ -13,6 +13,7 @@ use brdfpaint::brdf::Reflectance;
 use brdfpaint::error::{Error, Result};
 use brdfpaint::images::{check_size, Painting};
 use brdfpaint::material::Material;
+use brdfpaint::note::Note;
 use brdfpaint::sample::photoset::{self, Shot};
 use brdfpaint::sample::{Encoding, Erosion, MapFrame, NormalMap, Photo, PhotoCamera, PhotoFolder, PhotoInput, PhotoLight};
 
@@ -155,13 +156,10 @@ pub(super) fn input(map: &MapArgs, photos: Option<&Path>, images: &[PathBuf], li
 
 /// Reads the photographs as views for the fit, printing what was read and left out; their
 /// notes, and the files to keep in the output folder.
-pub(super) fn load(input: &PhotoInput, erosion: Erosion) -> Result<(Vec<brdfpaint::sample::PaintedView>, Vec<String>)> {
+pub(super) fn load(input: &PhotoInput, erosion: Erosion) -> Result<(Vec<brdfpaint::sample::PaintedView>, Vec<Note>)> {
     let read = input.load(erosion)?;
     for note in &read.notes {
-        println!("note: {note}");
-    }
-    if input.frame == MapFrame::View && read.world_space_suspected {
-        println!("hint: for a world-space normal map give --camera-dir X,Y,Z (toward the camera, in the map's frame)");
+        super::fit::say(note);
     }
     Ok((read.views, read.notes))
 }

@@ -309,7 +309,7 @@ pub(super) fn run(args: RenderArgs) -> std::result::Result<(), Failure> {
             .into());
         }
         if let Some(note) = note {
-            eprintln!("note: {name}: {note}");
+            eprintln!("note: {name}: {note} (--uv chooses the projection)");
         }
     }
 

@@ -94,7 +94,7 @@ pub(super) fn run(args: ViewArgs) -> Result<()> {
     let model = (args.model.clone(), model_meshes(&args.model)?);
     model_meshes(&args.paint_model)?;
     let scene = match &args.scene {
-        Some(p) => Some((p.display().to_string(), viewer::load_scene(p)?)),
+        Some(p) => Some((p.display().to_string(), load_scene(p)?)),
         None => None,
     };
     let min = brdfpaint::viewer::MIN_RENDER_SCALE;
@@ -146,4 +146,20 @@ pub(super) fn run(args: ViewArgs) -> Result<()> {
     };
     let hold = if args.hold.is_finite() && args.hold > 0.0 { Duration::from_secs_f64(args.hold.min(3600.0)) } else { Duration::ZERO };
     viewer::run(Options { start, lit_sphere, env, window, frames: args.frames.map(|n| n.max(1)), screenshot: args.screenshot, hold })
+}
+
+/// Loads `view --scene`'s scene. A scene without a camera or light gets `view`'s own way
+/// out: its standard views of the model.
+fn load_scene(path: &std::path::Path) -> brdfpaint::Result<brdfpaint::scene::Scene> {
+    brdfpaint::scene::Scene::load(path).map_err(|e| match e {
+        brdfpaint::Error::Format { path, reason } if reason.contains("preset views instead") => {
+            let model = path.display();
+            let reason = reason.replace(
+                "frame the model in one of the preset views instead",
+                &format!("paint its standard views with `view --paint --paint-model {model}`, or only look at it with `view --model {model}`"),
+            );
+            brdfpaint::Error::Format { path, reason }
+        }
+        e => e,
+    })
 }

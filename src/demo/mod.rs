@@ -415,13 +415,13 @@ fn fit_material(
         spec.paintings.iter().map(|p| (scene_paths[p.view].clone(), tmp.join("paintings").join(p.file))).collect();
     let mut loaded = pipeline::load_views(sampler, &pairs, Erosion::default())?;
     // The analytic base as `brdfpaint fit` chooses it (a material map fits none).
-    let mut opts = pipeline::Options { settings: settings.clone(), base: crate::factor::base::BaseChoice::Auto, ..Default::default() };
+    let mut opts = pipeline::Options { settings: settings.clone(), base: crate::read::lobe::BaseChoice::Auto, ..Default::default() };
     if let FitKind::MaterialMap { terms } = spec.kind {
         opts.kind = Kind::MaterialMap;
         opts.map.terms = terms;
     }
     // Read as `brdfpaint fit` reads paintings (tones, the painter's light).
-    loaded.read(&pipeline::Reading::default(), opts.kind)?;
+    loaded.read(&crate::read::Reading::default(), opts.kind)?;
     let mut views = loaded.views;
     // Name the files as they are in DIR, not in the temporary directory.
     for (view, p) in views.iter_mut().zip(&spec.paintings) {
@@ -543,7 +543,7 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
             let _ = writeln!(s, "  (judged where the paintings saw the surface: the back of the sphere was never painted)");
         }
     }
-    let _ = writeln!(s, "The MatCap is fitted as a lit sphere (fit --lit-sphere): its light estimated from the picture.");
+    let _ = writeln!(s, "The MatCap is fitted as a lit sphere: its light estimated from the picture.");
     let models: Vec<String> = retargets()
         .iter()
         .map(|r| format!("{} ({})", r.model, r.preset.description.trim_start_matches("light ")))

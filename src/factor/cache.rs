@@ -83,12 +83,14 @@ impl Cache {
         }
         let path = self.path(pattern, settings);
         let k = key(pattern, settings);
-        let stale = match std::fs::read(&path) {
+        let unknowns = settings.factors.iter().map(|f| f.len()).sum();
+        let stale = match crate::fsio::read_regular(&path, max_file_bytes(unknowns)) {
             Ok(bytes) => match load(&bytes, k, pattern, settings) {
                 Ok(p) => return Ok((p, Outcome::Hit)),
                 Err(reason) => Some(reason),
             },
-            Err(_) => None,
+            Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => None,
+            Err(e) => Some(unreadable(e)),
         };
         let prepared = super::prepare(pattern, settings)?;
         let written = std::fs::create_dir_all(&self.dir)
@@ -100,6 +102,25 @@ impl Cache {
             (Ok(()), None) => Outcome::Miss,
         };
         Ok((prepared, outcome))
+    }
+}
+
+/// The largest file [`store`] writes for a system of `n` unknowns: a sparse normal matrix
+/// of at most n² entries (index and value, 16 bytes each) is the largest payload, above a
+/// dense n × n inverse or a spectral basis. A file beyond it is refused before it is read.
+fn max_file_bytes(n: usize) -> u64 {
+    let n = n as u64;
+    let payload = 16u64.saturating_mul(n).saturating_mul(n).saturating_add(24 * (n + 1)).saturating_add(48);
+    payload.saturating_add((HEADER + HASH) as u64)
+}
+
+/// Why an existing cache file could not be read (a FIFO, a device, too large): the reason
+/// without the path, which the caller names.
+fn unreadable(e: Error) -> String {
+    match e {
+        Error::Format { reason, .. } => reason,
+        Error::Io { source, .. } => source.to_string(),
+        other => other.to_string(),
     }
 }
 
@@ -347,6 +368,35 @@ mod tests {
         std::fs::write(&path, &scaled).unwrap();
         assert_eq!(cache.prepare(&pattern, &settings).unwrap().1, Outcome::Rebuilt("checksum mismatch".into()));
         assert_eq!(cache.prepare(&pattern, &settings).unwrap().1, Outcome::Hit, "rebuilt, then used");
+    }
+
+    /// An entry that is a FIFO, a link to /dev/zero or a file beyond the largest this
+    /// system writes is refused before it is read (a FIFO used to hang the fit, /dev/zero
+    /// to read until memory ran out), then rebuilt over like a corrupt one.
+    #[cfg(unix)]
+    #[test]
+    fn entries_that_are_not_regular_files_or_too_large_are_rebuilt() {
+        let dir = tempfile::tempdir().unwrap();
+        let cache = Cache::new(dir.path());
+        let settings = Settings::default();
+        let pattern = SphereView::new(DVec3::new(-0.5, 0.5, 1.0), 40).pattern();
+        let path = cache.path(&pattern, &settings);
+        let fifo = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+        // SAFETY: a NUL-terminated path that outlives the call.
+        assert_eq!(unsafe { libc::mkfifo(fifo.as_ptr(), 0o600) }, 0);
+        let outcome = cache.prepare(&pattern, &settings).unwrap().1;
+        assert_eq!(outcome, Outcome::Rebuilt("is a FIFO (named pipe); only regular files are read".into()));
+        assert!(std::fs::symlink_metadata(&path).unwrap().is_file(), "the FIFO is replaced by the rebuilt file");
+        assert_eq!(cache.prepare(&pattern, &settings).unwrap().1, Outcome::Hit);
+        std::fs::remove_file(&path).unwrap();
+        std::os::unix::fs::symlink("/dev/zero", &path).unwrap();
+        let outcome = cache.prepare(&pattern, &settings).unwrap().1;
+        assert_eq!(outcome, Outcome::Rebuilt("is a device; only regular files are read".into()));
+        let n: usize = settings.factors.iter().map(|f| f.len()).sum();
+        std::fs::File::options().write(true).open(&path).unwrap().set_len(max_file_bytes(n) + 1).unwrap();
+        let Outcome::Rebuilt(why) = cache.prepare(&pattern, &settings).unwrap().1 else { panic!("not rebuilt") };
+        assert!(why.starts_with("larger than the"), "{why}");
+        assert_eq!(cache.prepare(&pattern, &settings).unwrap().1, Outcome::Hit);
     }
 
     #[test]

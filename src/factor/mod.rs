@@ -16,7 +16,7 @@
 //! - [`base`]: an analytic lobe under the product; the product is fitted to $S / B$.
 //! - [`cache`]: prepared systems saved to disk, keyed by pattern and settings.
 
-pub mod base;
+pub mod bound;
 pub mod cache;
 pub mod mapping;
 pub mod param;
@@ -31,7 +31,8 @@ pub mod table;
 
 pub use mapping::{LogMap, Mapping};
 pub use param::{Domain, Param};
-pub use pattern::{headlit, Pattern, Query, Sample, HEADLIT_DEG};
-pub use prepared::{errors, prepare, Errors, Fit, Prepared, Spectral};
-pub use robust::{Robust, BOUND};
+pub use pattern::{headlit, Grid, Pattern, Query, Sample, HEADLIT_DEG};
+pub use prepared::{errors, prepare, Errors, Fit, Prepared, Spectral, INVERTED_MARGIN};
+pub use bound::BOUND;
+pub use robust::Robust;
 pub use settings::{defaults, difference_range, CustomInput, DifferenceChoice, DIFFERENCE_REACH_DEG, FactorSpec, Input, Method, Settings, MAX_RES_1D, MAX_RES_2D, MAX_UNKNOWNS, MAX_WARP};

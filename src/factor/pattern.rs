@@ -145,3 +145,11 @@ impl Pattern {
         h.finish()
     }
 }
+/// Which sample each pixel of one painted view holds (`None`: not a sample).
+#[derive(Clone, Debug)]
+pub struct Grid {
+    pub width: usize,
+    pub height: usize,
+    pub sample: Vec<Option<u32>>,
+}
+

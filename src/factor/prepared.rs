@@ -281,7 +281,7 @@ impl Prepared {
                     max[c] = max[c].max(v[c]);
                 }
             }
-            b += super::robust::light_prior_rhs(&self.settings, &self.design, map, max, floor);
+            b += super::bound::light_prior_rhs(&self.settings, &self.design, map, max, floor);
         }
         b
     }
@@ -318,12 +318,12 @@ impl Prepared {
 
     /// Keeps a fit from blowing up where the painting is silent (issue 11: two white strokes
     /// once drove q(h) to 1e10, a chrome bunny with black holes). When the product,
-    /// evaluated over a grid of light and view directions ([`super::robust::peak`]),
-    /// exceeds [`super::robust::BOUND`] × the painting's largest value (+ a for the offset
+    /// evaluated over a grid of light and view directions ([`super::bound::peak`]),
+    /// exceeds [`super::bound::BOUND`] × the painting's largest value (+ a for the offset
     /// mapping) in some channel, every node no sample reaches (data weight below 1: its
     /// value is the smoothing's extrapolation) is capped at the highest node the samples do
     /// reach; the fit on the samples stays as it was. If the product is still over, the
-    /// samples themselves pull it up, and [`super::robust::bound_log`] bounds it at their
+    /// samples themselves pull it up, and [`super::bound::bound_log`] bounds it at their
     /// expense. A fit within the bound, as the fit of a consistent painting is, is left
     /// exactly as solved. (Not under `inverted`, bounded by its a: a large product there
     /// means dark.)
@@ -333,15 +333,15 @@ impl Prepared {
         }
         let top = |c: usize| {
             let a = if let LogMap::Offset { a } = map { a[c] } else { 0.0 };
-            (super::robust::BOUND * max[c].max(1e-12) + a).ln()
+            (super::bound::BOUND * max[c].max(1e-12) + a).ln()
         };
         // Most fits are under the bound by their largest nodes alone, which is far cheaper
         // than the grid (0.8 ms of a 0.1 ms solve).
-        let ceiling = super::robust::ceiling(y, &self.settings, &self.design);
+        let ceiling = super::bound::ceiling(y, &self.settings, &self.design);
         if (0..3).all(|c| ceiling[c] <= top(c)) {
             return;
         }
-        let peaks = super::robust::peak(y, &self.settings, &self.design);
+        let peaks = super::bound::peak(y, &self.settings, &self.design);
         if (0..3).all(|c| peaks[c] <= top(c)) {
             return;
         }
@@ -361,9 +361,9 @@ impl Prepared {
         // Still over: the samples themselves pull the product up where they never meet
         // (white strokes across a shaded painting). Then the fit gives way: factors are
         // kept within a range of their mean and the light factor is scaled under the bound.
-        let peaks = super::robust::peak(y, &self.settings, &self.design);
+        let peaks = super::bound::peak(y, &self.settings, &self.design);
         if (0..3).any(|c| peaks[c] > top(c)) {
-            super::robust::bound_log(y, &self.settings, &self.design, map, max, super::robust::BOUND);
+            super::bound::bound_log(y, &self.settings, &self.design, map, max, super::bound::BOUND);
         }
     }
 

@@ -559,7 +559,7 @@ impl std::str::FromStr for DifferenceChoice {
             "auto" => Ok(DifferenceChoice::Auto),
             "on" => Ok(DifferenceChoice::On),
             "off" => Ok(DifferenceChoice::Off),
-            _ => Err(Error::input(format!("unknown --theta-d '{s}': expected auto, on or off"))),
+            _ => Err(Error::input(format!("unknown θ_d factor choice '{s}': expected auto, on or off"))),
         }
     }
 }

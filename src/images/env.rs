@@ -21,9 +21,14 @@ use std::f64::consts::PI;
 use std::path::Path;
 
 use glam::DVec3;
-use image::ImageFormat;
 
+use super::env_read::Boxes;
+pub use super::env_read::{MAX_ENV_WIDTH, MAX_HDR_HEADER};
 use crate::error::{Error, Result};
+
+/// Largest environment file read: 1 GiB, above an 8192×4096 RGBA float OpenEXR stored
+/// uncompressed (537 MB). Files are read as a stream, so this bounds time, not memory.
+pub const MAX_ENV_BYTES: u64 = 1 << 30;
 
 /// An equirectangular HDR environment: linear RGB radiance, row 0 at the zenith,
 /// exactly twice as wide as high.
@@ -40,68 +45,41 @@ pub const MAX_RADIANCE: f32 = 65504.0;
 
 impl Environment {
     /// Reads an OpenEXR or Radiance `.hdr` file (recognized by its content, not its name)
-    /// under the file-access policy, and checks it ([`Environment::new`]). Errors name the
-    /// file: not an HDR image, corrupt or truncated, zero-size, not 2:1, a NaN, infinite,
-    /// negative or overflowing pixel.
+    /// under the file-access policy, and checks it as [`Environment::new`] does. A map larger
+    /// than the renderer's 4096×4096 pixels (up to [`MAX_ENV_WIDTH`]×4096) is averaged down
+    /// as it is read. Errors name the file: not an HDR image, corrupt or truncated, a
+    /// Radiance header over [`MAX_HDR_HEADER`] bytes, zero-size, not 2:1, too large, a NaN,
+    /// infinite or overflowing pixel, mostly negative.
     pub fn load(path: &Path) -> Result<Environment> {
-        let bytes = crate::fsio::read_regular(path, crate::fsio::MAX_IMAGE_BYTES)?;
-        Environment::decode(path, &bytes)
+        let (file, _) = crate::fsio::open_regular(path, MAX_ENV_BYTES)?;
+        super::env_read::read(path, std::io::BufReader::new(file))
     }
 
     /// Decodes the bytes of an OpenEXR or Radiance `.hdr` file, as [`Environment::load`];
     /// errors name `path`.
     pub fn decode(path: &Path, bytes: &[u8]) -> Result<Environment> {
-        let format = match image::guess_format(bytes) {
-            Ok(f @ (ImageFormat::OpenExr | ImageFormat::Hdr)) => f,
-            Ok(other) => {
-                return Err(Error::format(
-                    path,
-                    format!("a {other:?} image is not an HDR environment (expected OpenEXR or Radiance .hdr)"),
-                ));
-            }
-            Err(_) => {
-                return Err(Error::format(path, "not an HDR environment (expected OpenEXR or Radiance .hdr)"));
-            }
-        };
-        let img = super::decode_limited(path, bytes, format)?.into_rgb32f();
-        let (width, height) = (img.width() as usize, img.height() as usize);
-        let pixels = img.pixels().map(|p| p.0).collect();
-        Environment::new(width, height, pixels).map_err(|e| Error::format(path, e.to_string()))
+        super::env_read::read(path, std::io::Cursor::new(bytes))
     }
 
     /// An environment of these pixels. Errors ([`Error::Input`]): a zero size, an aspect other
     /// than 2:1, a pixel count that does not match, a non-finite value or one above
-    /// [`MAX_RADIANCE`]; the message names the first bad pixel.
+    /// [`MAX_RADIANCE`] (the message names the first bad pixel), a map mostly negative.
     ///
     /// Negative values are read as 0. Radiance is never negative, but lossy EXR codecs
     /// (DWAA/DWAB, B44) ring around bright sources: the bundled Poly Haven maps, stored
     /// DWAB-compressed upstream, hold values down to $-83$ beside a sun of a few thousand.
-    /// Refusing them would refuse most real maps.
-    pub fn new(width: usize, height: usize, mut pixels: Vec<[f32; 3]>) -> Result<Environment> {
-        if width == 0 || height == 0 {
-            return Err(Error::input(format!("a {width}x{height} environment has no pixels")));
-        }
-        if width != 2 * height {
-            return Err(Error::input(format!(
-                "the environment is {width}x{height}; an equirectangular map is exactly twice as wide as high"
-            )));
-        }
+    /// Refusing them would refuse most real maps; a map whose pixels are mostly negative is
+    /// no such map, and is refused.
+    pub fn new(width: usize, height: usize, pixels: Vec<[f32; 3]>) -> Result<Environment> {
+        Boxes::check_size(width, height).map_err(Error::input)?;
         if pixels.len() != width * height {
             return Err(Error::input(format!("{} pixels for a {width}x{height} environment", pixels.len())));
         }
-        for (k, p) in pixels.iter_mut().enumerate() {
-            for x in p.iter_mut() {
-                if !x.is_finite() || *x > MAX_RADIANCE {
-                    return Err(Error::input(format!(
-                        "pixel ({}, {}) has radiance {x}; an environment needs finite values up to {MAX_RADIANCE}",
-                        k % width,
-                        k / width
-                    )));
-                }
-                *x = x.max(0.0);
-            }
+        let mut boxes = Boxes::new(width, height).map_err(Error::input)?;
+        for (k, p) in pixels.into_iter().enumerate() {
+            boxes.add(k % width, k / width, p);
         }
-        Ok(Environment { width, height, pixels })
+        boxes.finish().map_err(Error::input)
     }
 
     /// The same radiance from every direction (the furnace test's environment).

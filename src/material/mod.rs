@@ -5,11 +5,12 @@
 //!
 //! $$ S(l, v, uv) = \sum_k c_k(uv)\, B_k(l, v)\, m_k^{-1}\Big(\prod_j p_{kj}(\pi_{kj}(l, v, uv))\Big) $$
 //!
-//! where $B_k$ is the term's optional analytic base ([`crate::factor::base`], issue 15; 1
+//! where $B_k$ is the term's optional analytic base ([`crate::brdf::lobe`], [`based`], issue 15; 1
 //! without one). A uniform material is one term without coefficients. Tables are stored as linear-space
 //! values in `f32`, exactly as the shader samples them, so the CPU evaluation here is the
 //! reference the GL renderer is tested against.
 
+pub mod based;
 pub mod map;
 mod store;
 
@@ -19,7 +20,8 @@ use crate::brdf::Reflectance;
 use crate::error::{Error, Result};
 use crate::factor::system::coordinate;
 use crate::factor::table::{stencil_1d, stencil_2d};
-use crate::factor::base::{Base, BasedFit};
+use crate::brdf::lobe::Base;
+use based::BasedFit;
 use crate::factor::{Errors, FactorSpec, Fit, Input, LogMap, Query, Settings};
 
 /// The four kinds of the thesis (DESIGN.md, Material directory).
@@ -188,43 +190,11 @@ impl Material {
     }
 
     /// A uniform (or four-factor) material from a fit over an analytic base
-    /// ([`crate::factor::base::solve_based`]): [`Material::from_fit`] with the base kept.
+    /// ([`crate::read::lobe::solve_based`]): [`Material::from_fit`] with the base kept.
     pub fn from_based_fit(settings: &Settings, fit: &BasedFit, provenance: Provenance) -> Result<Material> {
         let mut material = Material::from_fit(settings, &fit.fit, provenance)?;
         material.terms[0].base = fit.base;
         Ok(material)
-    }
-
-    /// A uniform material over an analytic base (issue 15, [`crate::factor::base`]): the lobe
-    /// of `choice` fitted to `values`, then the product of `prepared` (prepared on `pattern`
-    /// with `settings`) fitted to $S / B$. The prepared system is the one of the plain fit:
-    /// the base changes only the right-hand side. `None` when `choice` gives no base (`none`,
-    /// or `auto` when the lobe does not fit the samples): keep the plain fit then.
-    /// `plain` is the product's own fit of `values` on `prepared`: `auto` judges the lobe
-    /// against its misfit (the painting's roughness, [`crate::factor::base::excess`]).
-    /// `one_view`: the samples are one painting's, where the product holds brush texture as
-    /// well as shading ([`crate::factor::base::TEXTURE_CREDIT`]).
-    /// `provenance.errors` is replaced by the based fit's errors on $S$.
-    // The fit's inputs, each the caller's: bundling them would only rename them.
-    #[allow(clippy::too_many_arguments)]
-    pub fn fit_based(
-        prepared: &crate::factor::Prepared,
-        pattern: &crate::factor::Pattern,
-        values: &[[f64; 3]],
-        plain: &crate::factor::Fit,
-        settings: &Settings,
-        mapping: crate::factor::Mapping,
-        choice: crate::factor::base::BaseChoice,
-        one_view: bool,
-        provenance: Provenance,
-    ) -> Result<Option<Material>> {
-        // No lobe, no second solve: the plain fit stands.
-        let Some((base, weight)) = crate::factor::base::choose_over(prepared, pattern, values, Some(plain), choice, one_view) else {
-            return Ok(None);
-        };
-        let fit = crate::factor::base::solve_on_base(prepared, pattern, values, mapping, &base, weight)?;
-        let provenance = Provenance { errors: Some(fit.fit.errors), ..provenance };
-        Material::from_based_fit(settings, &fit, provenance).map(Some)
     }
 
     /// Whether any factor or coefficient texture looks up texture coordinates.

@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 use super::{Coefficients, Factor, Kind, Material, Provenance, Term};
 use crate::commit::{Claim, Legacy, StagedDir};
 use crate::error::{Error, Result};
-use crate::factor::base::Base;
+use crate::brdf::lobe::Base;
 use crate::factor::{FactorSpec, LogMap};
 use crate::images::Rgb;
 
@@ -161,6 +161,7 @@ impl Material {
         }
         let file: FileMaterial =
             serde_json::from_str(&text).map_err(|e| Error::format(&json_path, format!("invalid material: {e}")))?;
+        check_before_decoding(&file, &dir, &json_path)?;
         let mut terms = Vec::new();
         for t in file.terms {
             let mut factors = Vec::new();
@@ -249,6 +250,46 @@ fn texture_path(dir: &Path, json: &Path, name: &str) -> Result<PathBuf> {
         crate::fsio::Refused::Missing(path, e) => Error::io(path, e),
         crate::fsio::Refused::Outside(reason) => Error::format(json, format!("texture {reason}")),
     })
+}
+
+/// What can be checked before any texture is decoded, so a small material.json cannot make
+/// a load decode gigabytes it then refuses: the term and factor counts the renderer draws
+/// ([`crate::render::MAX_TERMS`], [`crate::render::MAX_FACTORS`]), each table's and
+/// coefficient texture's resolution, and each texture file's size from its header.
+fn check_before_decoding(file: &FileMaterial, dir: &Path, json: &Path) -> Result<()> {
+    use crate::render::{MAX_FACTORS, MAX_TERMS};
+    let bad = |why: String| Err(Error::format(json, why));
+    if !(1..=MAX_TERMS).contains(&file.terms.len()) {
+        return bad(format!("material has {} terms; 1 to {MAX_TERMS} are read (the most the renderer draws)", file.terms.len()));
+    }
+    for (k, t) in file.terms.iter().enumerate() {
+        if !(1..=MAX_FACTORS).contains(&t.factors.len()) {
+            return bad(format!("term {k} has {} factors; 1 to {MAX_FACTORS} are read (the most the renderer multiplies)", t.factors.len()));
+        }
+        let settings = crate::factor::Settings { factors: t.factors.iter().map(|f| f.spec.clone()).collect(), method: Default::default(), light_prior: None };
+        settings.validate().or_else(|e| bad(format!("term {k}: {e}")))?;
+        for f in &t.factors {
+            let side = if f.spec.dim() == 1 { (f.spec.res, 1) } else { (f.spec.res, f.spec.res) };
+            check_texture_size(&texture_path(dir, json, &f.texture)?, side, "its factor needs")?;
+        }
+        if let Some(c) = &t.coefficients {
+            if !(2..=super::map::MAX_COEF_RES).contains(&c.res) {
+                return bad(format!("term {k}: coefficient resolution {} is outside 2..={}", c.res, super::map::MAX_COEF_RES));
+            }
+            check_texture_size(&texture_path(dir, json, &c.texture)?, (c.res, c.res), "its coefficients need")?;
+        }
+    }
+    Ok(())
+}
+
+/// The texture at `path` is `want` (width, height) by its header; `what` ("its factor
+/// needs") says why, in the error.
+fn check_texture_size(path: &Path, want: (usize, usize), what: &str) -> Result<()> {
+    let got = crate::images::header_size(path)?;
+    if got != want {
+        return Err(Error::format(path, format!("texture is {}x{} but {what} {}x{}", got.0, got.1, want.0, want.1)));
+    }
+    Ok(())
 }
 
 /// Whether a file name is one the tool writes for a term's table or coefficients:

@@ -13,7 +13,7 @@
 use glam::Vec3;
 
 use crate::error::{Error, Result};
-use crate::factor::base::Lobe;
+use crate::brdf::lobe::Lobe;
 use crate::factor::{Domain, Input, LogMap, Param};
 use crate::gl::{Filter, Gl, Limits, TexelFormat, Texture2D};
 use crate::material::Material;

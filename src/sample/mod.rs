@@ -40,14 +40,10 @@
 //! ```
 
 pub mod page;
-pub mod proxy;
 pub mod photo;
 pub mod photoset;
-pub mod register;
 pub mod report;
 pub mod scene;
-pub mod strays;
-pub mod tones;
 
 use glam::DVec3;
 
@@ -141,7 +137,7 @@ pub struct Geometry {
     /// not left out while the painting was read.
     pub usable: Vec<bool>,
     /// How many of the pixels that survive the erosion were left out while the painting was
-    /// read (stray strokes in flat tones: [`crate::pipeline::read`]).
+    /// read (stray strokes in flat tones: [`crate::read::Reader::read`]).
     pub left_out: usize,
     /// Whether the queries carry meaningful texture coordinates.
     pub has_uv: bool,

@@ -25,11 +25,8 @@ pub struct PageLeftovers {
 
 impl PageLeftovers {
     /// One line for the user.
-    pub fn describe(&self, painting: &str) -> String {
-        format!(
-            "{painting} was made on the sheet's page: left out {} pixel(s) of its lines and {} of untouched (or clipped) white",
-            self.lines, self.white
-        )
+    pub fn note(&self, painting: &str) -> crate::note::Note {
+        crate::note::Note::Page { painting: painting.to_string(), lines: self.lines, white: self.white }
     }
 }
 

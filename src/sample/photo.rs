@@ -37,6 +37,7 @@ use super::{Erosion, Geometry, PaintedView, PixelGeometry};
 use crate::brdf::SphereView;
 use crate::error::{Error, Result};
 use crate::factor::Query;
+use crate::note::Note;
 use crate::fsio::{read_regular, MAX_IMAGE_BYTES};
 use crate::images::{check_size, decode_limited, srgb_to_linear_f64, Painting};
 
@@ -381,17 +382,8 @@ impl LeftOut {
     }
 
     /// One line for `images` photographs.
-    pub fn describe(&self, images: usize) -> String {
-        format!(
-            "{images} photograph{}: {} of {} object pixels are samples; left out {} saturated (a channel at the file's largest code) and {} in shadow ({} facing away from the light, {} near black)",
-            if images == 1 { "" } else { "s" },
-            self.kept(),
-            self.object,
-            self.saturated,
-            self.unlit + self.dark,
-            self.unlit,
-            self.dark
-        )
+    pub fn note(&self, images: usize) -> Note {
+        Note::PhotoSamples { images, object: self.object, kept: self.kept(), saturated: self.saturated, unlit: self.unlit, dark: self.dark }
     }
 }
 

@@ -24,6 +24,7 @@ use super::{Erosion, PaintedView};
 use crate::error::{Error, Result};
 use crate::fsio::{read_regular, resolve_inside};
 use crate::images::Painting;
+use crate::note::Note;
 
 /// Largest text file read (a 4096² `normal.txt` is about 400 MiB; 2048² about 100).
 const MAX_TEXT_BYTES: u64 = 512 << 20;
@@ -191,7 +192,7 @@ pub struct Photographs {
     /// The pixels left out, over all photographs.
     pub left_out: LeftOut,
     /// One line each: how the photographs were read and what was left out.
-    pub notes: Vec<String>,
+    pub notes: Vec<Note>,
     /// Whether a view-space map looks like a world-space one ([`Photo::facing_away`]).
     pub world_space_suspected: bool,
 }
@@ -237,11 +238,8 @@ impl PhotoInput {
         let away = photo.facing_away();
         let world_space_suspected = away > AWAY_SHARE;
         if world_space_suspected {
-            let why = match self.frame {
-                MapFrame::View => "as in a world-space map read as view space (a world-space map needs the direction toward the camera in its frame)",
-                MapFrame::World { .. } => "so the direction toward the camera given is probably not the camera's",
-            };
-            notes.push(format!("{}: {:.0}% of the normals face away from the camera, {why}", photo.normals.name, 100.0 * away));
+            let camera_given = matches!(self.frame, MapFrame::World { .. });
+            notes.push(Note::FacingAway { map: photo.normals.name.clone(), percent: 100.0 * away, camera_given });
         }
         notes.push(encodings(&images));
         let (mut views, mut left_out) = (Vec::new(), LeftOut::default());
@@ -255,24 +253,15 @@ impl PhotoInput {
             left_out.add(&left);
             views.push(view);
         }
-        notes.push(left_out.describe(views.len()));
+        notes.push(left_out.note(views.len()));
         Ok(Photographs { photo, views, left_out, notes, world_space_suspected })
     }
 }
 
 /// One line on how the photographs were decoded.
-fn encodings(images: &[(Painting, Option<Encoding>)]) -> String {
+fn encodings(images: &[(Painting, Option<Encoding>)]) -> Note {
     let count = |e: Option<Encoding>| images.iter().filter(|(_, x)| *x == e).count();
-    let parts: Vec<String> = [
-        (Some(Encoding::Linear), "linear (codes over their largest value)"),
-        (Some(Encoding::Srgb), "sRGB-encoded"),
-        (None, "linear float (EXR)"),
-    ]
-    .iter()
-    .filter(|(e, _)| count(*e) > 0)
-    .map(|(e, what)| format!("{} read as {what}", count(*e)))
-    .collect();
-    format!("photographs: {}", parts.join(", "))
+    Note::Encodings { linear: count(Some(Encoding::Linear)), srgb: count(Some(Encoding::Srgb)), float: count(None) }
 }
 
 #[cfg(test)]

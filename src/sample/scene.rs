@@ -90,8 +90,13 @@ impl SceneSampler {
 
     fn load_with_gbuffer(&mut self, scene_path: &Path, painting_path: &Path, erosion: Erosion) -> Result<(Scene, PaintedView, GBuffer)> {
         let scene = Scene::load(scene_path)?;
-        let painting = Painting::read(painting_path)?;
         let name = painting_path.display().to_string();
+        // The aspect is checked from the header first, so a mismatched painting is refused
+        // without being decoded (a file that has no readable header gets its error below).
+        if let Ok((width, height)) = crate::images::header_size(painting_path) {
+            check_aspect(&scene.camera, width, height, &name)?;
+        }
+        let painting = Painting::read(painting_path)?;
         check_aspect(&scene.camera, painting.width, painting.height, &name)?;
         let (g, geometry) =
             self.gbuffer_and_geometry(&scene, painting.width, painting.height, erosion).map_err(|e| match e {

@@ -1,7 +1,7 @@
 //! Accessors checked against their buffers before they are read, so that reading one
 //! cannot fail half-way.
 
-use gltf::accessor::{DataType, Dimensions};
+use gltf::accessor::{DataType, Dimensions, Item};
 
 /// Checks an accessor's shape and type, and that all its bytes (and those of its sparse
 /// substitution, if any) lie inside its buffer view and the view inside the buffer's data,
@@ -62,4 +62,41 @@ pub(super) fn check_range(
     let view_end = view.offset().checked_add(view.length())?;
     let data = buffers.get(view.buffer().index())?;
     (end <= view.length() && view_end <= data.0.len()).then_some(())
+}
+
+/// The elements of an accessor of `N` components as floats, whatever its component type
+/// (KHR_mesh_quantization stores positions, normals, tangents and texture coordinates as
+/// 8- or 16-bit integers): a normalized integer is mapped to [0, 1] or [−1, 1] as glTF
+/// prescribes ($\max(c / (2^{b-1} - 1), -1)$ when signed, $c / (2^b - 1)$ when not), any
+/// other read as its value. `None` when its data lies outside its buffer.
+pub(super) fn read_floats<const N: usize>(accessor: &gltf::Accessor, buffers: &[gltf::buffer::Data]) -> Option<Vec<[f32; N]>>
+where
+    [f32; N]: Item,
+    [i8; N]: Item,
+    [u8; N]: Item,
+    [i16; N]: Item,
+    [u16; N]: Item,
+    [u32; N]: Item,
+{
+    let normalized = accessor.normalized();
+    let signed = move |c: f32, max: f32| if normalized { (c / max).max(-1.0) } else { c };
+    let unsigned = move |c: f32, max: f32| if normalized { c / max } else { c };
+    match accessor.data_type() {
+        DataType::F32 => read_as::<f32, N>(accessor, buffers, |c| c),
+        DataType::I8 => read_as::<i8, N>(accessor, buffers, |c| signed(c as f32, 127.0)),
+        DataType::U8 => read_as::<u8, N>(accessor, buffers, |c| unsigned(c as f32, 255.0)),
+        DataType::I16 => read_as::<i16, N>(accessor, buffers, |c| signed(c as f32, 32767.0)),
+        DataType::U16 => read_as::<u16, N>(accessor, buffers, |c| unsigned(c as f32, 65535.0)),
+        DataType::U32 => read_as::<u32, N>(accessor, buffers, |c| c as f32),
+    }
+}
+
+/// The elements of an accessor of `N` components of type `T`, each mapped by `value`.
+fn read_as<T: Copy, const N: usize>(accessor: &gltf::Accessor, buffers: &[gltf::buffer::Data], value: impl Fn(T) -> f32) -> Option<Vec<[f32; N]>>
+where
+    [T; N]: Item,
+{
+    let data = |b: gltf::Buffer| buffers.get(b.index()).map(|d| &d.0[..]);
+    let iter = gltf::accessor::Iter::<[T; N]>::new(accessor.clone(), data)?;
+    Some(iter.map(|e| e.map(&value)).collect())
 }

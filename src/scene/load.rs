@@ -18,10 +18,11 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
-use super::accessor::check_accessor;
+use super::accessor::{check_accessor, read_floats};
 use super::sources::{check_before_validation, check_extension, check_images, read_buffers};
 use super::{Camera, CpuMesh, Light, Projection, Scene};
 use crate::error::{Error, Result};
+use crate::note::Note;
 
 impl Scene {
     /// Loads a glTF 2.0 scene (.gltf or .glb): every triangle primitive of the default scene
@@ -42,19 +43,30 @@ impl Scene {
     /// Errors name the file and the reason: unreadable, corrupt or truncated files, an
     /// unsupported required extension or accessor type, a missing buffer or texture file, and
     /// a scene without a mesh, a camera or a light.
+    ///
+    /// A scene with more than one camera or light says which one it uses in a note
+    /// told ([`crate::note::tell`]; [`Scene::load_with_notes`] returns them instead).
     pub fn load(path: impl AsRef<Path>) -> Result<Scene> {
+        let (scene, notes) = Scene::load_with_notes(path)?;
+        notes.into_iter().for_each(crate::note::tell);
+        Ok(scene)
+    }
+
+    /// [`Scene::load`], with its notes returned rather than sent.
+    pub fn load_with_notes(path: impl AsRef<Path>) -> Result<(Scene, Vec<Note>)> {
         let path = path.as_ref();
         let loaded = Loaded::read(path)?;
+        let notes = loaded.notes(path);
         let camera = loaded.camera.ok_or_else(|| {
-            Error::format(path, "the scene has no camera (add a camera node, or use --model with --preset)")
+            Error::format(path, "the scene has no camera (add a camera node, or frame the model in one of the preset views instead)")
         })?;
         let light = loaded.light.ok_or_else(|| {
             Error::format(
                 path,
-                "the scene has no light (add a KHR_lights_punctual directional or point light node, or use --model with --preset)",
+                "the scene has no light (add a KHR_lights_punctual directional or point light node, or frame the model in one of the preset views instead)",
             )
         })?;
-        Ok(Scene { meshes: loaded.meshes, camera, light })
+        Ok((Scene { meshes: loaded.meshes, camera, light }, notes))
     }
 
     /// Loads only the meshes of a model file (glTF 2.0 .gltf or .glb), in world space, as
@@ -75,12 +87,17 @@ struct Loaded {
     meshes: Vec<CpuMesh>,
     camera: Option<Camera>,
     light: Option<Light>,
+    /// The camera and light nodes, in the order walked: the first of each is used.
+    cameras: Vec<String>,
+    lights: Vec<String>,
 }
 
 /// Extensions a file may require and still be read correctly: they change only materials,
-/// textures or lights, never the geometry.
-fn extension_is_harmless(name: &str) -> bool {
+/// textures or lights, never the geometry, or change it as read here (KHR_mesh_quantization's
+/// integer attributes: [`super::accessor::read_floats`]).
+fn extension_is_read(name: &str) -> bool {
     name == "KHR_lights_punctual"
+        || name == "KHR_mesh_quantization"
         || name.starts_with("KHR_materials_")
         || name.starts_with("KHR_texture_")
         || name == "EXT_texture_webp"
@@ -88,6 +105,15 @@ fn extension_is_harmless(name: &str) -> bool {
 }
 
 impl Loaded {
+    /// A note for each of camera and light when the scene has several: which one is used.
+    fn notes(&self, path: &Path) -> Vec<Note> {
+        [("cameras", &self.cameras), ("lights", &self.lights)]
+            .into_iter()
+            .filter(|(_, nodes)| nodes.len() > 1)
+            .map(|(what, nodes)| Note::FirstOfMany { scene: path.display().to_string(), what, count: nodes.len(), used: nodes[0].to_string() })
+            .collect()
+    }
+
     fn read(path: &Path) -> Result<Loaded> {
         check_extension(path)?;
         let bytes = crate::fsio::read_regular(path, crate::fsio::MAX_SCENE_BYTES)?;
@@ -114,17 +140,16 @@ impl Loaded {
             return Err(Error::format(path, "empty file"));
         }
         let corrupt = |e: gltf::Error| Error::format(path, format!("corrupt, truncated or not glTF 2.0: {e}"));
-        // Required extensions are checked before validation, which would only say
-        // "Unsupported extension".
-        let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(corrupt)?;
-        let gltf::Gltf { document, blob } = gltf;
-        if let Some(ext) = document.extensions_required().find(|e| !extension_is_harmless(e)) {
+        let (mut json, blob) = super::json::parse(bytes).map_err(corrupt)?;
+        // Required extensions are checked here: gltf's validation knows only those compiled
+        // into it, and would only say "Unsupported extension".
+        if let Some(ext) = json.extensions_required.iter().find(|e| !extension_is_read(e)) {
             return Err(Error::format(
                 path,
                 format!("requires the unsupported glTF extension {ext} (re-export the file without it, e.g. with Blender)"),
             ));
         }
-        let json = document.into_json();
+        json.extensions_required.clear();
         check_before_validation(&json).map_err(|reason| Error::format(path, reason))?;
         let document = gltf::Document::from_json(json)
             .map_err(|e| Error::format(path, format!("not a valid glTF 2.0 file: {e}")))?;
@@ -132,6 +157,8 @@ impl Loaded {
         let buffers = read_buffers(path, base, &document, blob)?;
 
         let graph = NodeGraph::new(path, &document)?;
+        let nodes = graph.depth_first(&document);
+        super::budget::check_instanced(path, &nodes, &buffers)?;
         let mut walker = Walker {
             path,
             buffers: &buffers,
@@ -139,10 +166,12 @@ impl Loaded {
             meshes: Vec::new(),
             camera: None,
             light: None,
+            cameras: Vec::new(),
+            lights: Vec::new(),
             skipped: Vec::new(),
         };
-        for node in graph.depth_first(&document) {
-            walker.visit(&node)?;
+        for node in &nodes {
+            walker.visit(node)?;
         }
         if walker.meshes.is_empty() {
             let skipped = if walker.skipped.is_empty() {
@@ -152,7 +181,7 @@ impl Loaded {
             };
             return Err(Error::format(path, format!("the scene has no triangle mesh{skipped}")));
         }
-        Ok(Loaded { meshes: walker.meshes, camera: walker.camera, light: walker.light })
+        Ok(Loaded { meshes: walker.meshes, camera: walker.camera, light: walker.light, cameras: walker.cameras, lights: walker.lights })
     }
 }
 
@@ -250,6 +279,9 @@ struct Walker<'a> {
     meshes: Vec<CpuMesh>,
     camera: Option<Camera>,
     light: Option<Light>,
+    /// Each camera and light node met, named for a note ([`Loaded::notes`]).
+    cameras: Vec<String>,
+    lights: Vec<String>,
     skipped: Vec<String>,
 }
 
@@ -281,15 +313,17 @@ impl Walker<'_> {
                 self.meshes.push(cpu);
             }
         }
-        if self.camera.is_none() {
-            if let Some(camera) = node.camera() {
+        if let Some(camera) = node.camera() {
+            if self.camera.is_none() {
                 self.camera = Some(self.camera(&camera, world)?);
             }
+            self.cameras.push(node_name("camera", camera.index(), node));
         }
-        if self.light.is_none() {
-            if let Some(light) = node.light() {
+        if let Some(light) = node.light() {
+            if self.light.is_none() {
                 self.light = Some(self.light(&light, world)?);
             }
+            self.lights.push(node_name("light", light.index(), node));
         }
         Ok(())
     }
@@ -474,14 +508,14 @@ impl Walker<'_> {
         let position_accessor = primitive
             .get(&gltf::Semantic::Positions)
             .ok_or_else(|| bad("no POSITION attribute".into()))?;
-        check_accessor(&position_accessor, buffers, "POSITION", Dimensions::Vec3, &[DataType::F32]).map_err(&bad)?;
+        check_accessor(&position_accessor, buffers, "POSITION", Dimensions::Vec3, QUANTIZED).map_err(&bad)?;
         let n = position_accessor.count();
         if n > u32::MAX as usize {
             return Err(bad(format!("{n} vertices is more than 32-bit indices can address")));
         }
-        let positions: Vec<Vec3> = reader
-            .read_positions()
+        let positions: Vec<Vec3> = read_floats::<3>(&position_accessor, buffers)
             .ok_or_else(|| bad("POSITION data lies outside its buffer".into()))?
+            .into_iter()
             .map(Vec3::from_array)
             .collect();
         check_count(positions.len(), n, "POSITION").map_err(&bad)?;
@@ -489,10 +523,10 @@ impl Walker<'_> {
         let normals: Vec<Vec3> = match primitive.get(&gltf::Semantic::Normals) {
             None => Vec::new(),
             Some(acc) => {
-                check_accessor(&acc, buffers, "NORMAL", Dimensions::Vec3, &[DataType::F32]).map_err(&bad)?;
-                let normals: Vec<Vec3> = reader
-                    .read_normals()
+                check_accessor(&acc, buffers, "NORMAL", Dimensions::Vec3, SIGNED_QUANTIZED).map_err(&bad)?;
+                let normals: Vec<Vec3> = read_floats::<3>(&acc, buffers)
                     .ok_or_else(|| bad("NORMAL data lies outside its buffer".into()))?
+                    .into_iter()
                     .map(|n| unit_or(Vec3::from_array(n), Vec3::Z))
                     .collect();
                 check_count(normals.len(), n, "NORMAL").map_err(&bad)?;
@@ -503,10 +537,10 @@ impl Walker<'_> {
         let tangents: Option<Vec<Vec4>> = match primitive.get(&gltf::Semantic::Tangents) {
             None => None,
             Some(acc) => {
-                check_accessor(&acc, buffers, "TANGENT", Dimensions::Vec4, &[DataType::F32]).map_err(&bad)?;
-                let tangents: Vec<Vec4> = reader
-                    .read_tangents()
+                check_accessor(&acc, buffers, "TANGENT", Dimensions::Vec4, SIGNED_QUANTIZED).map_err(&bad)?;
+                let tangents: Vec<Vec4> = read_floats::<4>(&acc, buffers)
                     .ok_or_else(|| bad("TANGENT data lies outside its buffer".into()))?
+                    .into_iter()
                     .map(|t| {
                         // w is ±1 by the spec; snap anything else to its sign.
                         let w = if t[3] < 0.0 { -1.0 } else { 1.0 };
@@ -524,12 +558,10 @@ impl Walker<'_> {
         let uvs: Option<Vec<Vec2>> = match primitive.get(&gltf::Semantic::TexCoords(0)) {
             None => None,
             Some(acc) => {
-                check_accessor(&acc, buffers, "TEXCOORD_0", Dimensions::Vec2, &[DataType::F32, DataType::U8, DataType::U16])
-                    .map_err(&bad)?;
-                let uvs: Vec<Vec2> = reader
-                    .read_tex_coords(0)
+                check_accessor(&acc, buffers, "TEXCOORD_0", Dimensions::Vec2, QUANTIZED).map_err(&bad)?;
+                let uvs: Vec<Vec2> = read_floats::<2>(&acc, buffers)
                     .ok_or_else(|| bad("TEXCOORD_0 data lies outside its buffer".into()))?
-                    .into_f32()
+                    .into_iter()
                     .map(Vec2::from_array)
                     .collect();
                 check_count(uvs.len(), n, "TEXCOORD_0").map_err(&bad)?;
@@ -582,6 +614,20 @@ impl Walker<'_> {
         Ok(Some(CpuMesh { positions, normals, tangents, uvs, indices }))
     }
 }
+
+/// "camera 0 at node 3 ('Main')": an object and the node that places it, for a note.
+fn node_name(what: &str, index: usize, node: &gltf::Node) -> String {
+    let name = node.name().map(|n| format!(" ('{n}')")).unwrap_or_default();
+    format!("{what} {index} at node {}{name}", node.index())
+}
+
+/// Component types of positions and texture coordinates: float, or 8- and 16-bit integers
+/// (KHR_mesh_quantization; glTF 2.0 itself allows normalized unsigned texture coordinates).
+const QUANTIZED: &[DataType] = &[DataType::F32, DataType::I8, DataType::U8, DataType::I16, DataType::U16];
+
+/// Component types of normals and tangents: float, or normalized signed 8- and 16-bit
+/// integers (KHR_mesh_quantization).
+const SIGNED_QUANTIZED: &[DataType] = &[DataType::F32, DataType::I8, DataType::I16];
 
 /// `v` normalized, or `fallback` when it has no direction. Vectors already unit to float
 /// rounding are kept bit for bit, so a written scene loads back unchanged.

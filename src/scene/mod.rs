@@ -98,6 +98,8 @@ pub fn write_gltf(scene: &Scene, path: impl AsRef<std::path::Path>) -> crate::Re
 }
 
 mod accessor;
+mod budget;
+mod json;
 mod load;
 mod mesh;
 pub mod preset;
@@ -105,6 +107,7 @@ mod sources;
 mod uv;
 mod write;
 
+pub use budget::{MAX_TRIANGLES, MAX_VERTICES};
 pub use mesh::BoundingSphere;
 pub use uv::{box_uvs, spherical_uvs, UvRule};
 pub use preset::{

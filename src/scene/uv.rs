@@ -69,13 +69,13 @@ impl UvRule {
             UvRule::Auto if missing == 0 => (meshes, None),
             UvRule::Auto => (
                 spherical_uvs(meshes),
-                Some(format!("{missing} mesh(es) without texture coordinates get a spherical projection (--uv)")),
+                Some(format!("{missing} mesh(es) without texture coordinates get a spherical projection")),
             ),
             UvRule::Spherical => {
                 let cleared = meshes.into_iter().map(|m| CpuMesh { uvs: None, ..m }).collect();
-                (spherical_uvs(cleared), Some("texture coordinates from a spherical projection (--uv spherical)".into()))
+                (spherical_uvs(cleared), Some("texture coordinates from a spherical projection".into()))
             }
-            UvRule::Box => (box_uvs(meshes), Some("texture coordinates from a box projection (--uv box)".into())),
+            UvRule::Box => (box_uvs(meshes), Some("texture coordinates from a box projection".into())),
         }
     }
 }

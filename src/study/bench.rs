@@ -561,7 +561,7 @@ pub fn live_paint_case(quick: bool) -> Result<Case> {
 }
 
 /// `brdfpaint fit --scene` of one 512² painting without its start-up and files (issue 11:
-/// under 1 s): the painting read as evidence ([`crate::pipeline::read`]: tones, light,
+/// under 1 s): the painting read as evidence ([`crate::read::Reader`]: tones, light,
 /// strays) and fitted as `fit` does by default (uniform, the analytic base `auto`). A
 /// Blinn-Phong sphere painted front-left, as rendered and in 6 flat tones per channel (the
 /// reading's most expensive case). `time_s` is the median of read + fit, the prepared system
@@ -580,16 +580,17 @@ fn read_fit_cases_in(quick: bool, cache: &crate::factor::cache::Cache) -> Result
     let mut sampler = crate::sample::SceneSampler::new()?;
     let view = FaultyView::new(&mut sampler, &super::fidelity::painted_presets(1)[0], SIZE, 0.0)?;
     let model = faults::suite().into_iter().find(|m| m.name() == "blinn-phong-8").ok_or_else(|| Error::Numeric("no blinn-phong-8 in the faults suite".into()))?;
-    let opts = crate::pipeline::Options { base: crate::factor::base::BaseChoice::Auto, ..Default::default() };
+    let opts = crate::pipeline::Options { base: crate::read::lobe::BaseChoice::Auto, ..Default::default() };
     let mut cases = Vec::new();
     for (name, f) in [("as rendered", Faults::clean()), ("6 flat tones", Faults::posterized())] {
         let painted = faults::paint(&view, &model, &f)?;
         let samples = painted.geometry.sample_pixels(&painted.painting).len();
         let mut failed = None;
         let t = median_time(if quick { 3 } else { 7 }, 0.0, || {
-            let mut views = vec![painted.clone()];
-            let run = crate::pipeline::read(&mut views, &[&view.view.gbuffer], &crate::pipeline::Reading::default())
-                .and_then(|_| crate::pipeline::fit(&views, &opts, Some(cache)));
+            let gbuffers = [&view.view.gbuffer];
+            let run = crate::read::Reader::new(crate::read::Reading::default(), &gbuffers)
+                .read(vec![painted.clone()])
+                .and_then(|read| crate::pipeline::fit(&read.views, &opts, Some(cache)));
             if let Err(e) = run {
                 failed = Some(e);
             }

@@ -18,14 +18,14 @@
 use glam::{DVec2, DVec3, Vec3};
 
 use crate::brdf::{Analytic, Reflectance, SphereView};
-use crate::demo::brush::SplitMix;
+use crate::util::SplitMix;
 use crate::error::{Error, Result};
 use crate::factor::{Fit, Prepared, Settings};
 use crate::images::{linear_to_srgb, srgb_to_linear, Painting};
 use crate::material::{Material, Provenance};
-use crate::pipeline::Reading;
+use crate::read::Reading;
 use super::fidelity::LIGHT_COLOR;
-use super::{held_out_error, StudyView};
+use super::{held_out_and_worst, StudyView};
 use crate::sample::scene::geometry_from_gbuffer;
 use crate::sample::{Erosion, Geometry, PaintedView, Samples, SceneSampler};
 use crate::scene::{Light, Preset};
@@ -361,14 +361,14 @@ pub fn measure(
     faults: &Faults,
     solve: Solve<'_>,
     reading: Reading,
-    base: crate::factor::base::BaseChoice,
+    base: crate::read::lobe::BaseChoice,
 ) -> Result<Vec<Row>> {
     let mut prepared: Option<Prepared> = None;
     let mut rows = Vec::new();
     let gbuffers: Vec<&crate::render::GBuffer> = painted.iter().map(|v| &v.view.gbuffer).collect();
     for model in models {
-        let mut views: Vec<PaintedView> = painted.iter().map(|v| paint(v, model, faults)).collect::<Result<_>>()?;
-        crate::pipeline::read(&mut views, &gbuffers, &reading)?;
+        let views: Vec<PaintedView> = painted.iter().map(|v| paint(v, model, faults)).collect::<Result<_>>()?;
+        let views = crate::read::Reader::new(reading, &gbuffers).read(views)?.views;
         let samples = Samples::gather(&views)?;
         // As `brdfpaint fit` does: headlit paintings get the light prior.
         let settings = &settings.for_pattern(&samples.pattern);
@@ -382,13 +382,12 @@ pub fn measure(
         let mut material = Material::from_fit(settings, &fit, Provenance::default())?;
         // As `brdfpaint fit` does: the analytic base when it explains the painting as well as
         // the painting's roughness allows.
-        if let Some(based) = Material::fit_based(p, &samples.pattern, &samples.values, &fit, settings, crate::factor::Mapping::Auto, base, views.len() == 1, Provenance::default())? {
+        if let Some(based) = crate::read::lobe::fit_based(p, &samples.pattern, &samples.values, &fit, settings, crate::factor::Mapping::Auto, base, views.len() == 1, Provenance::default())? {
             material = based;
         }
-        let held = held_out_error(&material, model, held_out, None)?;
-        let worst = held_out.chunks(1).map(|v| held_out_error(&material, model, v, None)).collect::<Result<Vec<f64>>>()?;
+        let (held, worst) = held_out_and_worst(&material, model, held_out)?;
         let sweep = sweep_ratio(&light_sweep(&material, 24, 64));
-        rows.push(Row { model: model.name(), train: fit.errors.rms_relative, held_out: held, worst_view: worst.into_iter().fold(0.0, f64::max), sweep, map: fit.map.name() });
+        rows.push(Row { model: model.name(), train: fit.errors.rms_relative, held_out: held, worst_view: worst, sweep, map: fit.map.name() });
     }
     Ok(rows)
 }

@@ -84,7 +84,8 @@ impl StudyView {
     }
 }
 
-fn with_light(light: &Light, c: Vec3, i: f32) -> Light {
+/// `light` with colour `c` and intensity `i`.
+pub(crate) fn with_light(light: &Light, c: Vec3, i: f32) -> Light {
     match *light {
         Light::Directional { direction, .. } => Light::Directional { direction, color: c, intensity: i },
         Light::Point { position, .. } => Light::Point { position, color: c, intensity: i },

@@ -15,6 +15,7 @@
 pub mod bench;
 pub mod faults;
 pub mod fidelity;
+pub mod painted;
 pub mod photos;
 pub mod rendered;
 mod stroke;
@@ -89,6 +90,14 @@ pub fn rendered_error(material: &dyn Reflectance, views: &[PaintedView]) -> Resu
             Ok(relative_rms(s.pattern.queries.iter().zip(&s.values).map(|(q, &t)| (material.shading(q), t))))
         })
         .collect()
+}
+
+/// [`held_out_error`] over all of `held_out` together, and the largest over each view
+/// alone (the worst held-out view): the two figures the painting studies report.
+pub fn held_out_and_worst(material: &dyn Reflectance, truth: &dyn Reflectance, held_out: &[StudyView]) -> Result<(f64, f64)> {
+    let all = held_out_error(material, truth, held_out, None)?;
+    let worst = held_out.chunks(1).map(|v| held_out_error(material, truth, v, None)).collect::<Result<Vec<f64>>>()?;
+    Ok((all, worst.into_iter().fold(0.0, f64::max)))
 }
 
 /// Where on the surface paintings have samples: cells of a 64² uv grid.

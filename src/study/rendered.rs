@@ -25,9 +25,10 @@ use super::fidelity::{held_out_presets, painted_presets, sphere_scene, LIGHT_COL
 use super::{median, rendered_error};
 use crate::brdf::Analytic;
 use crate::error::{Error, Result};
-use crate::factor::base::BaseChoice;
+use crate::read::lobe::BaseChoice;
 use crate::material::Kind;
-use crate::pipeline::{self, Options, Reading};
+use crate::pipeline::{self, Options};
+use crate::read::Reading;
 use crate::sample::{Erosion, PaintedView, SceneSampler};
 use crate::scene::{Light, Preset, Scene};
 

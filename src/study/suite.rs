@@ -13,7 +13,7 @@ use glam::DVec3;
 use super::{median, relative_rms};
 use crate::brdf::{held_out_views, painted_views, Analytic, Reflectance, SphereView};
 use crate::error::Result;
-use crate::factor::base::{solve_based, BaseChoice};
+use crate::read::lobe::{solve_based, BaseChoice};
 use crate::factor::{prepare, Mapping, Pattern, Settings};
 
 /// Pixels per side of a painted view.
@@ -74,7 +74,7 @@ pub fn measure(models: &[Analytic], settings: &Settings, painted: &[SphereView])
     measure_based(models, settings, painted, BaseChoice::None)
 }
 
-/// [`measure`] with an analytic base under the product ([`crate::factor::base`]).
+/// [`measure`] with an analytic base under the product ([`crate::brdf::lobe`]).
 pub fn measure_based(models: &[Analytic], settings: &Settings, painted: &[SphereView], base: BaseChoice) -> Result<Vec<Row>> {
     let pattern = Pattern::concat(&painted.iter().map(SphereView::pattern).collect::<Vec<_>>());
     let named: Vec<(String, &dyn Reflectance)> = models.iter().map(|m| (m.name(), m as &dyn Reflectance)).collect();
@@ -95,7 +95,7 @@ pub fn measure_on(pattern: &Pattern, models: &[(String, &dyn Reflectance)], sett
 
 /// [`measure_on`] with a base under the product: one prepared system for every model and
 /// both choices, since the base changes only the values (the right-hand side).
-/// `one_view`: `pattern` is one painting's ([`crate::factor::base::choose`]).
+/// `one_view`: `pattern` is one painting's ([`crate::read::lobe::choose`]).
 pub fn measure_on_based(pattern: &Pattern, models: &[(String, &dyn Reflectance)], settings: &Settings, base: BaseChoice, one_view: bool) -> Result<Vec<Row>> {
     let prepared = prepare(pattern, settings)?;
     let views: Vec<Vec<crate::factor::Query>> =

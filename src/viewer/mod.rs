@@ -18,19 +18,3 @@ pub use display::{WindowRect, MIN_SCALE as MIN_RENDER_SCALE};
 pub use studio::shortcuts::{take_shortcuts, Shortcut};
 pub use studio::{Env, EnvStart, Layout, Mode, Stage, Start, Studio, Timings, Tool, PANEL_WIDTH};
 
-/// Loads `view --scene`'s scene. The scene loader's hints name `render`'s and `fit`'s
-/// options (`--model` with `--preset`); `view` has none of those, so a scene without a
-/// camera or light gets `view`'s own way out: its standard views of the model.
-pub fn load_scene(path: &std::path::Path) -> crate::Result<crate::scene::Scene> {
-    crate::scene::Scene::load(path).map_err(|e| match e {
-        crate::Error::Format { path, reason } if reason.contains("--preset") => {
-            let model = path.display();
-            let reason = reason.replace(
-                "use --model with --preset",
-                &format!("paint its standard views with `view --paint --paint-model {model}`, or only look at it with `view --model {model}`"),
-            );
-            crate::Error::Format { path, reason }
-        }
-        e => e,
-    })
-}

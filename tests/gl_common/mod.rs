@@ -151,7 +151,7 @@ pub fn coef_lookup(c: &Coefficients, uv: [f64; 2]) -> [f64; 3] {
 /// $S(q)$ of a shading function on the CPU, in f64, through `brdfpaint::factor`: table
 /// coordinates from `system::coordinate`, linear/bilinear lookups from `table`, the
 /// mapping's `inverse`, the coefficient texture bilinearly, the term's analytic base
-/// (`factor::base::Base::shading`).
+/// (`brdf::lobe::Base::shading`).
 pub fn cpu_shading(shading: &Material, q: &Query) -> [f64; 3] {
     let mut sum = [0.0; 3];
     for term in &shading.terms {

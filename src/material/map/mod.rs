@@ -20,13 +20,7 @@ use crate::brdf::Reflectance;
 use crate::error::{Error, Result};
 use crate::factor::{Errors, Input, LogMap, Mapping, Pattern, Prepared};
 
-/// Which sample each pixel of one painted view holds (`None`: not a sample).
-#[derive(Clone, Debug)]
-pub struct Grid {
-    pub width: usize,
-    pub height: usize,
-    pub sample: Vec<Option<u32>>,
-}
+pub use crate::factor::Grid;
 
 /// How the terms and their coefficients are found.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -36,10 +36,11 @@
 //! (in the interval's widths, at least [`MIN_OFF_TONE`]; [`off_tone`]). A toned stroke's rim
 //! is one tone off, under both tests, so a toned view's strays widen by [`TONED_RIM`]; and
 //! they are then left out, not repainted, and the painting read again without them
-//! ([`crate::pipeline::read`]).
+//! ([`super::Reader::read`]).
 
 use super::tones::Toned;
-use super::{proxy, PaintedView, Samples};
+use super::proxy;
+use crate::sample::{PaintedView, Samples};
 use crate::error::Result;
 use crate::images::{components, neighbours8};
 use crate::factor::{defaults, Mapping, Settings};
@@ -76,7 +77,7 @@ const GROWTH: usize = 3;
 /// sharp highlight's few pixels, a stroke beside it takes the material's highlight away.
 /// Two pixels: every fault, seeds 1–24, 0.0487 against one's 0.0477 (BENCHMARKS.md,
 /// "Strokes in flat tones"). Not under a headlight, where strays are not left out
-/// ([`crate::pipeline::read`]).
+/// ([`super::Reader::read`]).
 const TONED_RIM: usize = 1;
 /// A neighbour joins a stray when the fit misses it by this fraction of the threshold.
 const RIM: f64 = 0.5;
@@ -85,7 +86,7 @@ const RIM: f64 = 0.5;
 const MIN_STROKE: f64 = 0.002;
 const MIN_STROKE_PIXELS: usize = 8;
 /// How far (pixels) a stroke's end on the object may lie from the background: the silhouette
-/// band left out of the samples ([`super::Erosion`]) and a soft rim.
+/// band left out of the samples ([`crate::sample::Erosion`]) and a soft rim.
 const OUTLINE_REACH: usize = 3;
 /// Searches: each refits without the strays found so far.
 const PASSES: usize = 2;
@@ -122,7 +123,7 @@ pub struct Strays {
     /// Their pixels, per view.
     pub per_view: Vec<Vec<usize>>,
     /// Whether some view is in flat tones and not headlit (its strays are then left out, and
-    /// the painting read again without them: [`crate::pipeline::read`]).
+    /// the painting read again without them: [`super::Reader::read`]).
     pub toned: bool,
     /// Whether they were left out rather than repainted.
     pub left_out: bool,
@@ -130,19 +131,12 @@ pub struct Strays {
 
 impl Strays {
     /// The notes a user reads, one per view with strays.
-    pub fn describe(&self, views: &[PaintedView]) -> Vec<String> {
+    pub fn notes(&self, views: &[PaintedView]) -> Vec<crate::note::Note> {
         views
             .iter()
             .zip(&self.per_view)
             .filter(|(_, p)| !p.is_empty())
-            .map(|(v, p)| {
-                let n = p.len();
-                let done = if self.left_out { "left out, and the painting read again without them" } else { "repainted with the shading around them" };
-                format!(
-                    "{}: {n} painted pixels read as stray strokes (the fit misses them far more than the rest) and {done} (--keep-strokes fits them as painted)",
-                    v.name
-                )
-            })
+            .map(|(v, p)| crate::note::Note::Strays { painting: v.name.clone(), pixels: p.len(), left_out: self.left_out })
             .collect()
     }
 }
@@ -333,7 +327,7 @@ fn off_tone(fit: &[f64; 3], light: [f64; 3], bounds: &Bounds) -> f64 {
 /// brush seeds (BENCHMARKS.md; held-out 0.96–1.03 then; with it kept, and the light judged
 /// on the tones, 0.32, 0.23 and 0.46). A dark stroke over the highlight is still a stray,
 /// and so is a bright one far from it.
-fn keep_strokes(stray: &mut [bool], least: usize, outline: Option<&super::Geometry>, at: &[f64], brighter: &[bool], theta_h: &[f64], w: usize) {
+fn keep_strokes(stray: &mut [bool], least: usize, outline: Option<&crate::sample::Geometry>, at: &[f64], brighter: &[bool], theta_h: &[f64], w: usize) {
     let mirror = mirror_point(theta_h);
     for blob in components(stray, w) {
         let Some(&worst) = blob.iter().max_by(|&&a, &&b| at[a].total_cmp(&at[b])) else { continue };
@@ -356,7 +350,7 @@ fn mirror_point(theta_h: &[f64]) -> f64 {
 /// Whether pixel `k` of `geometry` lies within [`OUTLINE_REACH`] pixels (8-neighbour steps)
 /// of one that does not see the object: on the band along the outline, where a stroke across
 /// it ends on the object. Only small blobs ask, so the band is never built.
-fn reaches_outline(geometry: &super::Geometry, k: usize) -> bool {
+fn reaches_outline(geometry: &crate::sample::Geometry, k: usize) -> bool {
     let (w, h) = (geometry.width as i64, geometry.height as i64);
     let (i, j) = ((k % geometry.width) as i64, (k / geometry.width) as i64);
     let r = OUTLINE_REACH as i64;

@@ -31,8 +31,9 @@
 
 use rayon::prelude::*;
 
-use super::{proxy, PaintedView};
-use crate::factor::base::Lobe;
+use super::proxy;
+use crate::sample::PaintedView;
+use crate::brdf::lobe::Lobe;
 use crate::images::{self, linear_to_srgb, srgb_to_linear};
 
 /// Most distinct codes per channel of a toned painting.
@@ -62,11 +63,8 @@ impl Toned {
     }
 
     /// The note a user reads.
-    pub fn describe(&self, painting: &str) -> String {
-        format!(
-            "{painting}: painted in flat tones ({}, {} and {} levels in R, G, B): read as the smooth shading they suggest (--keep-tones fits the tones as painted)",
-            self.levels[0], self.levels[1], self.levels[2]
-        )
+    pub fn note(&self, painting: &str) -> crate::note::Note {
+        crate::note::Note::FlatTones { painting: painting.to_string(), levels: self.levels }
     }
 }
 
@@ -242,7 +240,7 @@ fn read(view: &PaintedView, geometry: Vec<Site>) -> Option<Luminance> {
 /// How a toned view's tones are held under the view's light ([`Luminance`]; `None` when
 /// there is nothing to read). The tones are the painting's evidence: where the edges between
 /// them lie is what the painter put down, unlike the interpolation between them ([`smooth`]),
-/// so a light registered on the interpolation is checked on this ([`crate::pipeline::read`]),
+/// so a light registered on the interpolation is checked on this ([`crate::read::Reader::read`]),
 /// and the reading kept is passed on to [`refine`] for the light kept.
 pub fn held(view: &PaintedView, toned: &Toned) -> Option<Luminance> {
     read(view, sites(view, toned))

@@ -36,9 +36,10 @@
 use glam::{DQuat, DVec3};
 use rayon::prelude::*;
 
-use super::{proxy, Geometry, PaintedView, Samples};
+use super::proxy;
+use crate::sample::{Geometry, PaintedView, Samples};
 use crate::error::Result;
-use crate::factor::base::Base;
+use crate::brdf::lobe::Base;
 use crate::factor::{Mapping, Settings};
 use crate::render::GBuffer;
 
@@ -71,7 +72,7 @@ pub struct Turn {
     pub degrees: f64,
     /// Relative RMS of the factored fit with the scene's light, and with the turned one;
     /// for a turn judged on a toned painting's tones (`by_tones`), how far the tones' best
-    /// reading leaves their intervals ([`crate::sample::tones::Luminance::outside`]).
+    /// reading leaves their intervals ([`crate::read::tones::Luminance::outside`]).
     pub before: f64,
     pub after: f64,
     /// Whether the turn was judged on the tones rather than on the factored fit.
@@ -435,15 +436,6 @@ pub fn register(views: &mut [PaintedView], gbuffers: &[&GBuffer], settings: &Set
 }
 
 /// What the user hears about a view whose light was moved.
-pub fn describe(view: &PaintedView, turn: &Turn) -> String {
-    if turn.by_tones {
-        return format!(
-            "{}: the painting's tones look lit {:.0}° away from the scene's light (their edges missed by {:.3} → {:.3} with the light turned); fitted with the painting's light (--keep-light uses the scene's as given)",
-            view.name, turn.degrees, turn.before, turn.after
-        );
-    }
-    format!(
-        "{}: the painting looks lit {:.0}° away from the scene's light (relative RMS {:.3} → {:.3} with the light turned); fitted with the painting's light (--keep-light uses the scene's as given)",
-        view.name, turn.degrees, turn.before, turn.after
-    )
+pub fn note(view: &PaintedView, turn: &Turn) -> crate::note::Note {
+    crate::note::Note::LightTurned { painting: view.name.clone(), degrees: turn.degrees, before: turn.before, after: turn.after, by_tones: turn.by_tones }
 }
