@@ -1,10 +1,13 @@
 //! The suite another renderer made (issue 37; `brdfpaint::study::rendered`): Mitsuba 3
 //! spheres of materials outside the base's lobe families, fitted from one and from three
-//! painted views as `brdfpaint fit` fits them, judged on three held-out renders.
+//! painted views as `brdfpaint fit` fits them, judged on seven held-out renders (three lit
+//! from the front half, four under side, rim and grazing light), with the medians of each
+//! group below the table.
 //!
-//! `cargo run --release --example mitsuba_suite [-- --dir tests/data/mitsuba] [--base auto|none|ggx]`
+//! `cargo run --release --example mitsuba_suite [-- --dir tests/data/mitsuba] [--base auto|none|ggx] [--per-view]`
 //!   prints the convention check and the table, with the chosen base (`auto`, `brdfpaint
-//!   fit`'s default, unless told) and with `--base none` beside it;
+//!   fit`'s default, unless told) and with `--base none` beside it (and each held-out view's
+//!   error, with `--per-view`);
 //! `cargo run --release --example mitsuba_suite -- scenes DIR`
 //!   writes the suite's scenes as DIR/PRESET.gltf, for `tools/mitsuba/render_suite.py`.
 
@@ -92,6 +95,16 @@ fn main() -> brdfpaint::Result<()> {
         }
     }
     println!("{}", line.trim_end());
+    for (what, of) in [("median, held-1..3", Row::front as fn(&Row) -> f64), ("median, side..grazing", Row::rim)] {
+        let mut line = format!("{what:<26}");
+        for (_, b, rows) in &tables {
+            line += &format!(" {:<16}", format!("{:.4}", median(&rows.iter().map(of).collect::<Vec<_>>())));
+            if *b != BaseChoice::None {
+                line += &format!(" {:<17}", "");
+            }
+        }
+        println!("{}", line.trim_end());
+    }
     let mut line = format!("{:<26}", "on the painted samples");
     for (_, b, rows) in &tables {
         line += &format!(" {:<16}", format!("{:.4}", median(&rows.iter().map(|r| r.train).collect::<Vec<_>>())));
@@ -100,5 +113,19 @@ fn main() -> brdfpaint::Result<()> {
         }
     }
     println!("{}", line.trim_end());
+    if args.iter().any(|a| a == "--per-view") {
+        for (painted, b, rows) in &tables {
+            println!("\nper held-out view, {painted} view(s), base {}", name(*b));
+            let mut line = format!("{:<26}", "material");
+            for n in &names[rendered::PAINTED..] {
+                line += &format!(" {n:>11}");
+            }
+            println!("{line}");
+            for r in rows {
+                let cells: String = r.views.iter().map(|e| format!(" {e:>11.4}")).collect();
+                println!("{:<26}{cells}", r.material);
+            }
+        }
+    }
     Ok(())
 }

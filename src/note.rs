@@ -50,6 +50,13 @@ pub enum Note {
     DifferenceFactor { lo_deg: f64, hi_deg: f64 },
     /// The error of a uniform fit organized by region: not one material.
     Regional { percent: f64, rms: f64 },
+    /// A normal map of which a share (`percent`) faces away from the camera: read in the
+    /// wrong frame, or (`camera_given`) given a camera direction that is not the camera's.
+    FacingAway { map: String, percent: f64, camera_given: bool },
+    /// How many photographs were read with each encoding of their codes.
+    Encodings { linear: usize, srgb: usize, float: usize },
+    /// How many of the photographs' object pixels are samples, and why the others are not.
+    PhotoSamples { images: usize, object: usize, kept: usize, saturated: usize, unlit: usize, dark: usize },
     /// A scene with several cameras or lights (`what`), of which the first (`used`) is used.
     FirstOfMany { scene: String, what: &'static str, count: usize, used: String },
 }
@@ -71,6 +78,10 @@ pub enum Remedy {
     NoDifferenceFactor,
     /// Fit a material map.
     MaterialMap,
+    /// Give the direction toward the camera in the normal map's frame.
+    CameraDirection,
+    /// Say how the photographs' codes are encoded.
+    Encoding,
 }
 
 impl Note {
@@ -84,7 +95,14 @@ impl Note {
             Note::Headlit => Some(Remedy::SecondView),
             Note::DifferenceFactor { .. } => Some(Remedy::NoDifferenceFactor),
             Note::Regional { .. } => Some(Remedy::MaterialMap),
-            Note::Page { .. } | Note::TonesLobe { .. } | Note::FresnelUnseen { .. } | Note::FirstOfMany { .. } => None,
+            Note::FacingAway { camera_given: false, .. } => Some(Remedy::CameraDirection),
+            Note::Encodings { .. } => Some(Remedy::Encoding),
+            Note::Page { .. }
+            | Note::TonesLobe { .. }
+            | Note::FresnelUnseen { .. }
+            | Note::FirstOfMany { .. }
+            | Note::FacingAway { camera_given: true, .. }
+            | Note::PhotoSamples { .. } => None,
         }
     }
 
@@ -139,6 +157,28 @@ impl fmt::Display for Note {
                 f,
                 "warning: this does not look like one uniform material: {percent:.0}% of the error is organized by region on the surface (relative RMS {rms:.2}); a material map fits one, best with a second view (thesis 4.2, 4.4)"
             ),
+            Note::FacingAway { map, percent, camera_given } => {
+                let why = if *camera_given {
+                    "so the direction toward the camera given is probably not the camera's"
+                } else {
+                    "as in a world-space map read as view space (a world-space map needs the direction toward the camera in its frame)"
+                };
+                write!(f, "{}: {percent:.0}% of the normals face away from the camera, {why}", one_line(map))
+            }
+            Note::Encodings { linear, srgb, float } => {
+                let parts: Vec<String> = [(*linear, "linear (codes over their largest value)"), (*srgb, "sRGB-encoded"), (*float, "linear float (EXR)")]
+                    .iter()
+                    .filter(|(n, _)| *n > 0)
+                    .map(|(n, what)| format!("{n} read as {what}"))
+                    .collect();
+                write!(f, "photographs: {}", parts.join(", "))
+            }
+            Note::PhotoSamples { images, object, kept, saturated, unlit, dark } => write!(
+                f,
+                "{images} photograph{}: {kept} of {object} object pixels are samples; left out {saturated} saturated (a channel at the file's largest code) and {} in shadow ({unlit} facing away from the light, {dark} near black)",
+                if *images == 1 { "" } else { "s" },
+                unlit + dark
+            ),
             Note::FirstOfMany { scene, what, count, used } => {
                 write!(f, "{} has {count} {what}; {} is used (the first in node order), the others are ignored", one_line(scene), one_line(used))
             }
@@ -165,11 +205,14 @@ mod tests {
             Note::DifferenceFactor { lo_deg: 5.0, hi_deg: 70.0 },
             Note::Regional { percent: 60.0, rms: 0.2 },
             Note::FirstOfMany { scene: "s.gltf".into(), what: "cameras", count: 2, used: "front\nback".into() },
+            Note::FacingAway { map: "n.png".into(), percent: 40.0, camera_given: false },
+            Note::Encodings { linear: 2, srgb: 0, float: 1 },
+            Note::PhotoSamples { images: 3, object: 100, kept: 80, saturated: 5, unlit: 10, dark: 5 },
         ];
         for note in &notes {
             let line = note.to_string();
             assert!(!line.contains('\n') && !line.contains("--"), "{line}");
         }
-        assert_eq!(notes.iter().filter(|n| n.remedy().is_some()).count(), 7);
+        assert_eq!(notes.iter().filter(|n| n.remedy().is_some()).count(), 9);
     }
 }

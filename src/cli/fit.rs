@@ -1,11 +1,14 @@
-//! `brdfpaint fit`: samples in, material out. Two sources: paintings of scenes
-//! (`--scene S --image P`, repeatable: thesis 4.1, 4.4) and measured MERL data (`--merl`).
+//! `brdfpaint fit`: samples in, material out. The sources: paintings of scenes
+//! (`--scene S --image P`, repeatable: thesis 4.1, 4.4), measured MERL data (`--merl`), lit
+//! spheres (`--lit-sphere`) and photographs over a normal map (`--normals`, `--photos`:
+//! [`super::photos`]).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::ValueEnum;
 
+use super::photos::{self, LightArg, MapArgs};
 use super::Failure;
 use brdfpaint::brdf::Merl;
 use brdfpaint::error::{Error, Result};
@@ -44,28 +47,38 @@ pub(super) enum MapFitArg {
 }
 
 #[derive(clap::Args)]
-#[command(group = clap::ArgGroup::new("source").required(true).multiple(true).args(["merl", "scene", "lit_sphere"]))]
+#[command(group = clap::ArgGroup::new("source").required(true).multiple(true).args(["merl", "scene", "lit_sphere", "normals", "photos"]))]
 pub(super) struct FitArgs {
     /// A scene (glTF: meshes, camera, light) a painting was made in; repeat with --image
     /// for several views (paired in order).
-    #[arg(long, value_name = "S.gltf", conflicts_with = "merl", requires = "image")]
+    #[arg(long, value_name = "S.gltf", conflicts_with_all = ["merl", "normals", "photos"], requires = "image")]
     scene: Vec<PathBuf>,
     /// The painting (PNG, JPEG: sRGB; EXR: linear) of the preceding --scene; alpha 0 is
-    /// "not painted".
-    #[arg(long, value_name = "P.png", requires = "scene")]
+    /// "not painted". With --normals: a photograph, lit by the --light that follows it.
+    #[arg(long, value_name = "P.png", conflicts_with_all = ["merl", "lit_sphere", "photos"])]
     image: Vec<PathBuf>,
     /// A measured BRDF in the MERL binary format.
-    #[arg(long, value_name = "F.binary", conflicts_with = "lit_sphere")]
+    #[arg(long, value_name = "F.binary", conflicts_with_all = ["lit_sphere", "normals", "photos"])]
     merl: Option<PathBuf>,
     /// A picture of a painted or photographed sphere, or a MatCap (PNG, JPEG, EXR; the disk
     /// anywhere, on a transparent or plain background): its scene is built, and written as
     /// MAT/scene.gltf.
-    #[arg(long, value_name = "IMAGE", conflicts_with = "scene")]
+    #[arg(long, value_name = "IMAGE", conflicts_with_all = ["scene", "normals", "photos"])]
     lit_sphere: Option<PathBuf>,
     /// With --lit-sphere: the direction towards the light, X,Y,Z in the picture's frame (x
     /// right, y up, z towards the viewer); estimated from the shading when not given.
-    #[arg(long, value_name = "X,Y,Z", requires = "lit_sphere", value_parser = parse_direction, allow_hyphen_values = true)]
-    light: Option<glam::DVec3>,
+    /// With --normals: the light of the preceding --image, X,Y,Z towards it in the normal
+    /// map's frame, and its colour × intensity R,G,B (divided out; default 1,1,1).
+    #[arg(long, value_name = "X,Y,Z[,R,G,B]", value_parser = photos::parse_light, allow_hyphen_values = true, conflicts_with_all = ["merl", "scene", "photos"])]
+    light: Vec<LightArg>,
+    /// A folder of photographs in the photometric-stereo layout (DiLiGenT's): the images,
+    /// filenames.txt naming them, light_directions.txt (one x y z per image),
+    /// light_intensities.txt (one r g b per image), mask.png and a normal map (normal.exr,
+    /// normal.txt, normal.png or Normal_gt.png; --normals overrides it).
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["scene", "image", "lit_sphere", "merl"])]
+    photos: Option<PathBuf>,
+    #[command(flatten)]
+    map: MapArgs,
     /// With --scene: fit with each scene's light exactly as given. By default a painting
     /// shaded a few degrees (up to 20) off the scene's light is fitted with the light it was
     /// painted with, when that explains it clearly better, and a note says so.
@@ -196,6 +209,21 @@ fn options(args: &FitArgs) -> Result<Options> {
 
 pub(super) fn run(args: FitArgs) -> std::result::Result<(), Failure> {
     let opts = options(&args)?;
+    let photographs = args.map.normals.is_some() || args.photos.is_some();
+    if let Some(flag) = args.map.stray_flag().filter(|_| !photographs) {
+        return Err(Failure::Usage(format!("{flag} applies to photographs: give --normals N or --photos DIR")));
+    }
+    if args.lit_sphere.is_some() && (args.light.len() > 1 || args.light.iter().any(|l| l.rgb.is_some())) {
+        return Err(Failure::Usage("--lit-sphere takes one --light X,Y,Z (its colour comes from the picture)".into()));
+    }
+    if !args.light.is_empty() && args.lit_sphere.is_none() && !photographs {
+        return Err(Failure::Usage("--light applies to --lit-sphere and to photographs (--normals N --image P --light X,Y,Z)".into()));
+    }
+    if photographs {
+        let input = photos::input(&args.map, args.photos.as_deref(), &args.image, &args.light)?;
+        let (views, notes) = photos::load(&input, erosion(&args))?;
+        return Ok(fit_and_save(&args, &opts, &views, notes, &input.files())?);
+    }
     match (&args.merl, &args.lit_sphere) {
         // Dense MERL-style sampling shows every θ_d, but its factor is added only when asked
         // for: it lowers the median of the MERL set and loses a third of its materials by more
@@ -250,22 +278,10 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
     Ok(())
 }
 
-/// `X,Y,Z`: a direction (normalized later; zero is refused there).
-fn parse_direction(text: &str) -> std::result::Result<glam::DVec3, String> {
-    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-    let v: Vec<f64> = parts.iter().filter_map(|p| p.parse().ok()).collect();
-    match v[..] {
-        [x, y, z] if parts.len() == 3 && v.iter().all(|c| c.is_finite()) && (x, y, z) != (0.0, 0.0, 0.0) => {
-            Ok(glam::DVec3::new(x, y, z))
-        }
-        _ => Err(format!("'{text}' is not a direction X,Y,Z (e.g. -0.5,0.5,1)")),
-    }
-}
-
 /// A lit sphere or MatCap: find the disk, estimate the light (or take --light), fit, and
 /// write the material with its report and the scene it was fitted in.
 fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
-    let light = args.light;
+    let light = args.light.first().map(|l| l.direction);
     let lit = litsphere::fit(image, light, opts, Cache::user().as_ref())?;
     let d = &lit.disk;
     let how = match lit.outline {
@@ -322,7 +338,7 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
 }
 
 /// Prints a note, with the option that changes what it describes.
-fn say(note: &Note) {
+pub(super) fn say(note: &Note) {
     let hint = note.remedy().map(|r| match r {
         Remedy::KeepTones => "--keep-tones fits the tones as painted",
         Remedy::KeepLight => "--keep-light uses the scene's as given",
@@ -331,6 +347,8 @@ fn say(note: &Note) {
         Remedy::SecondView => "add one with --scene S2 --image P2",
         Remedy::NoDifferenceFactor => "--theta-d off leaves it out",
         Remedy::MaterialMap => "try --kind material-map",
+        Remedy::CameraDirection => "for a world-space normal map give --camera-dir X,Y,Z, toward the camera in the map's frame",
+        Remedy::Encoding => "--encoding srgb|linear says how",
     });
     let prefix = if note.is_warning() { "" } else { "note: " };
     match hint {
@@ -365,9 +383,8 @@ fn print_mappings(fit: &Fit) {
 /// Paintings of scenes through the pipeline; nothing is written unless everything succeeds
 /// up to the save.
 fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
-    // Checked to lie in 0..=MAX_ERODE by `options`.
-    let erosion = Erosion { radius: args.erode as usize, neighbours: Neighbours::Eight };
     let mut sampler = SceneSampler::new()?;
+    let erosion = erosion(args);
     let pairs: Vec<(PathBuf, PathBuf)> = args.scene.iter().cloned().zip(args.image.iter().cloned()).collect();
     let mut loaded = pipeline::load_views(&mut sampler, &pairs, erosion)?;
     loaded.read(&brdfpaint::read::Reading { smooth_tones: !args.keep_tones, register_light: !args.keep_light, repaint_strays: !args.keep_strokes }, opts.kind)?;
@@ -375,8 +392,21 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
     for note in &notes {
         say(note);
     }
+    let inputs: Vec<&Path> = args.scene.iter().chain(&args.image).map(PathBuf::as_path).collect();
+    fit_and_save(args, opts, &views, notes, &inputs)
+}
+
+/// The silhouette erosion of --erode.
+fn erosion(args: &FitArgs) -> Erosion {
+    // Checked to lie in 0..=MAX_ERODE by `options`.
+    Erosion { radius: args.erode as usize, neighbours: Neighbours::Eight }
+}
+
+/// Fits views read (and noted) by the caller through the pipeline, writes the material,
+/// keeping `inputs` found in the output folder, and prints the errors.
+fn fit_and_save(args: &FitArgs, opts: &Options, views: &[brdfpaint::sample::PaintedView], notes: Vec<Note>, inputs: &[&Path]) -> Result<()> {
     let opts = &Options { base: args.base, ..opts.clone() };
-    let mut fitted = pipeline::fit(&views, opts, Cache::user().as_ref())?;
+    let mut fitted = pipeline::fit(views, opts, Cache::user().as_ref())?;
     print_base(&fitted.material);
     // How the paintings were read goes into material.json too, before the fit's own notes.
     fitted.prepend_notes(&notes);
@@ -392,9 +422,8 @@ fn run_paintings(args: &FitArgs, opts: &Options) -> Result<()> {
     for note in &fitted.notes[notes.len()..] {
         say(note);
     }
-    let per_view = fitted.view_errors(&views);
-    let inputs: Vec<&Path> = args.scene.iter().chain(&args.image).map(PathBuf::as_path).collect();
-    let report_path = fitted.save(&views, &args.out, &inputs)?;
+    let per_view = fitted.view_errors(views);
+    let report_path = fitted.save(views, &args.out, inputs)?;
 
     for (k, (view, e)) in views.iter().zip(&per_view).enumerate() {
         println!(

@@ -5,6 +5,7 @@
 mod bench;
 mod demo;
 mod fit;
+mod photos;
 mod render;
 mod sheet;
 #[cfg(feature = "viewer")]

@@ -33,11 +33,11 @@ const MAX_EV: f32 = 64.0;
 #[derive(clap::Args)]
 pub(super) struct SceneArgs {
     /// A glTF 2.0 scene (.gltf or .glb): meshes, one camera, one light.
-    #[arg(long, value_name = "S.gltf", conflicts_with_all = ["model", "preset"], required_unless_present = "model")]
+    #[arg(long, value_name = "S.gltf", conflicts_with_all = ["model", "preset"])]
     scene: Option<PathBuf>,
     /// A model to frame with --preset: a built-in name (sphere, bunny, suzanne, teapot, apple,
     /// fox) or a .glb/.gltf file (its cameras and lights are ignored).
-    #[arg(long, value_name = "M.glb|NAME", required_unless_present = "scene")]
+    #[arg(long, value_name = "M.glb|NAME")]
     model: Option<PathBuf>,
     /// Standard view and light for --model: front-left (default), front-right, front, top,
     /// side, back, rim.
@@ -46,7 +46,7 @@ pub(super) struct SceneArgs {
     /// Image size in pixels, WxH: 1 to 16384 per side, at most 4096x4096 pixels in all.
     /// Default 512x512; with --scene and a camera aspectRatio, 512 high at that aspect.
     #[arg(long, value_name = "WxH")]
-    size: Option<String>,
+    pub size: Option<String>,
 }
 
 /// A resolved scene and image size.
@@ -118,12 +118,21 @@ fn check_pixels(width: usize, height: usize) -> Result<()> {
 }
 
 #[derive(clap::Args)]
+#[command(group = clap::ArgGroup::new("geometry").required(true).args(["scene", "model", "normals"]))]
 pub(super) struct RenderArgs {
     /// Material directory (or its material.json).
     #[arg(value_name = "MAT")]
     material: PathBuf,
     #[command(flatten)]
     scene: SceneArgs,
+    /// With --normals: the view of a photograph re-rendered, to compare with it (its size is
+    /// the normal map's; PNG 16-bit, sRGB unless --encoding linear).
+    #[command(flatten)]
+    map: super::photos::MapArgs,
+    /// With --normals: the light, X,Y,Z towards it in the normal map's frame, and its colour
+    /// × intensity R,G,B (default 1,1,1).
+    #[arg(long, value_name = "X,Y,Z[,R,G,B]", requires = "normals", allow_hyphen_values = true)]
+    light: Option<String>,
     /// Output image: .png (sRGB, 8-bit, tone mapped into [0, 1]: --tonemap) or .exr (linear
     /// float). Background: --background. With a sequence option, frames are R-000.png,
     /// R-001.png, ...
@@ -235,6 +244,12 @@ impl Develop {
 }
 
 pub(super) fn run(args: RenderArgs) -> std::result::Result<(), Failure> {
+    if args.map.normals.is_some() {
+        return run_photo(args);
+    }
+    if let Some(flag) = args.map.stray_flag() {
+        return Err(Failure::Usage(format!("{flag} applies to renders over a normal map (--normals)")));
+    }
     let format = match args.out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
         Some("png") => Format::Png,
         Some("exr") => Format::Exr,
@@ -363,6 +378,26 @@ pub(super) fn run(args: RenderArgs) -> std::result::Result<(), Failure> {
         if paths.len() == 1 { first.to_string() } else { format!("{first} ... {}", paths[paths.len() - 1].display()) };
     println!("rendered {} on {name}{lit} at {width}x{height}{what}: {outputs}", args.material.display());
     Ok(())
+}
+
+/// `render MAT --normals N --light L`: only the exposure applies of the scene options.
+fn run_photo(args: RenderArgs) -> std::result::Result<(), Failure> {
+    let scene_only = [
+        (args.turntable.is_some(), "--turntable"),
+        (args.light_sweep.is_some(), "--light-sweep"),
+        (args.env.is_some(), "--env"),
+        (args.tonemap.is_some(), "--tonemap"),
+        (args.background.is_some(), "--background"),
+        (args.uv != UvRule::default(), "--uv"),
+    ];
+    if let Some((_, flag)) = scene_only.iter().find(|(given, _)| *given) {
+        return Err(Failure::Usage(format!("{flag} applies to scene renders, not to --normals")));
+    }
+    let ev = args.exposure.unwrap_or(0.0);
+    if !(ev.is_finite() && ev.abs() <= MAX_EV) {
+        return Err(Failure::Usage(format!("--exposure {ev}: give a number of stops from -{MAX_EV} to {MAX_EV}")));
+    }
+    super::photos::render(&args.material, &args.map, args.light.as_deref(), args.scene.size.as_deref(), exposure_scale(ev), &args.out)
 }
 
 /// The frames of `R.png`: `R-007.png` for frame 7 (the index zero-padded to at least 3

@@ -9,6 +9,7 @@ use brdfpaint::render::sheet::{check_output, Sheet};
 use brdfpaint::render::Renderer;
 
 #[derive(clap::Args)]
+#[command(group = clap::ArgGroup::new("geometry").required(true).args(["scene", "model"]))]
 pub(super) struct SheetArgs {
     #[command(flatten)]
     scene: SceneArgs,

@@ -17,7 +17,8 @@
 //! - [`scene`]: a glTF scene rasterized by the renderer's G-buffer, exactly the pixels the
 //!   outline and reference passes cover ([`SceneSampler`]);
 //! - [`photo`]: a photograph with known normals, no mesh: a normal map, a mask, and one
-//!   image per directional light ([`Photo`]).
+//!   image per directional light ([`Photo`]); [`photoset`] reads them pair by pair or as a
+//!   photometric-stereo folder ([`PhotoInput`]).
 //!
 //! Several views concatenate into one pattern ([`Samples::gather`], thesis 4.4). The
 //! pattern depends only on the geometry and the alpha mask, never on the colours, so a
@@ -40,6 +41,7 @@
 
 pub mod page;
 pub mod photo;
+pub mod photoset;
 pub mod report;
 pub mod scene;
 
@@ -50,7 +52,8 @@ use crate::factor::{Pattern, Query};
 use crate::images::Painting;
 use crate::material::map::Grid;
 
-pub use photo::{NormalMap, Photo, PhotoCamera, PhotoLight};
+pub use photo::{Encoding, LeftOut, MapFrame, NormalMap, Photo, PhotoCamera, PhotoLight};
+pub use photoset::{PhotoFolder, PhotoInput, Photographs, Shot};
 pub use scene::{check_aspect, check_same_model, SceneSampler};
 
 /// Which neighbours of a pixel count when eroding the silhouette band.

@@ -7,7 +7,8 @@
 //!   views ([`fidelity`] paints and judges the analytic suite through the real path;
 //!   [`suite`](mod@suite) judges the wide suite on analytic sphere views, rim light included);
 //! - [`rendered_error`]: a material against rendered views, where the truth is a picture
-//!   ([`rendered`]: the suite another renderer made);
+//!   ([`rendered`]: the suite another renderer made; [`photos`]: photographs held out by
+//!   light);
 //! - [`bench`](mod@bench): `brdfpaint bench`, the thesis's tables and the shader frame times;
 //!   [`measure_stroke_to_frame`]: the live painting loop, stroke to frame.
 
@@ -15,6 +16,7 @@ pub mod bench;
 pub mod faults;
 pub mod fidelity;
 pub mod painted;
+pub mod photos;
 pub mod rendered;
 mod stroke;
 pub mod suite;

@@ -1,9 +1,10 @@
 //! Truth made by another renderer (issue 37): spheres of materials outside the base's seven
-//! lobe families (rough conductors with measured complex IOR, rough plastic with internal
-//! scattering, the principled BSDF with clearcoat and sheen, a two-layer blend), rendered by
-//! Mitsuba 3 in the fidelity study's scenes and committed as linear EXR
-//! (`tests/data/mitsuba/`, made by `tools/mitsuba/render_suite.py`), so tests and CI need no
-//! Mitsuba.
+//! lobe families (rough conductors with measured complex IOR, a very rough one among them,
+//! rough plastic with internal scattering, a sharp one among them, the principled BSDF with
+//! clearcoat, with sheen and metallic, a two-layer blend), rendered by Mitsuba 3 in the
+//! fidelity study's scenes and under side, rim and grazing light ([`harder`]), committed as
+//! linear EXR (`tests/data/mitsuba/`, made by `tools/mitsuba/render_suite.py`), so tests and
+//! CI need no Mitsuba.
 //!
 //! The scenes are written here ([`write_scenes`]) and the renderer reads camera, light and
 //! mesh from those very files: the two sides cannot disagree on framing. A material is fitted
@@ -32,10 +33,31 @@ use crate::sample::{Erosion, PaintedView, SceneSampler};
 use crate::scene::{Light, Preset, Scene};
 
 /// The suite's views: the three painted presets of the fidelity study (the first alone is
-/// the one-view fit), then its three held-out presets.
+/// the one-view fit), then its three held-out presets (light 38°–63° from the camera), then
+/// the [`harder`] ones.
 pub fn presets() -> Vec<Preset> {
-    painted_presets(3).into_iter().chain(held_out_presets()).collect()
+    painted_presets(3).into_iter().chain(held_out_presets()).chain(harder()).collect()
 }
+
+fn preset(name: &'static str, azimuth: f32, elevation: f32, light: [f32; 3]) -> Preset {
+    Preset { name, description: "rendered suite, side and rim light", view_azimuth_deg: azimuth, view_elevation_deg: elevation, light_in_view: light }
+}
+
+/// Held-out views under side, rim and grazing light, where Fresnel and the lobes' grazing
+/// shapes show and a fit from front-lit paintings extrapolates: the light 90° (side), 115°
+/// and 140° (rim) and 150° (grazing: a thin lit crescent, the most the silhouette band leaves) from the camera.
+pub fn harder() -> Vec<Preset> {
+    vec![
+        preset("side-90", 30.0, 15.0, [-1.0, 0.2, 0.0]),
+        preset("rim-115", -45.0, 5.0, [0.8, 0.35, -0.41]),
+        preset("rim-140", 120.0, 20.0, [-0.5, 0.4, -0.77]),
+        preset("grazing-150", -150.0, 35.0, [0.296, -0.403, -0.866]),
+    ]
+}
+
+/// How many of [`presets`] are the fidelity study's held-out presets; the [`harder`] ones
+/// follow them.
+pub const FRONT_HELD_OUT: usize = 3;
 
 /// How many of [`presets`] are painted; the rest are held out.
 pub const PAINTED: usize = 3;
@@ -145,6 +167,14 @@ impl Row {
     /// The median over held-out views.
     pub fn median(&self) -> f64 {
         median(&self.views)
+    }
+    /// The median over the held-out views lit from the front half (the fidelity study's).
+    pub fn front(&self) -> f64 {
+        median(&self.views[..FRONT_HELD_OUT.min(self.views.len())])
+    }
+    /// The median over the side, rim and grazing views ([`harder`]).
+    pub fn rim(&self) -> f64 {
+        median(&self.views[FRONT_HELD_OUT.min(self.views.len())..])
     }
     /// The worst held-out view.
     pub fn worst(&self) -> f64 {

@@ -36,8 +36,11 @@ import mitsuba as mi
 
 mi.set_variant("llvm_ad_rgb")
 
-# The suite's scenes, in the order of brdfpaint::study::rendered::presets().
-PRESETS = ["front-left", "paint-2", "paint-3", "held-1", "held-2", "held-3"]
+# The suite's scenes, in the order of brdfpaint::study::rendered::presets(): three painted,
+# three held out with the light 38-63 degrees from the camera, four under side, rim and
+# grazing light (90, 115, 140, 150 degrees).
+PRESETS = ["front-left", "paint-2", "paint-3", "held-1", "held-2", "held-3",
+           "side-90", "rim-115", "rim-140", "grazing-150"]
 
 # The convention check: a Lambertian sphere, compared in Rust against brdfpaint's own
 # Lambert shading of the same albedo (the analytic suite's Lambert).
@@ -78,6 +81,15 @@ MATERIALS = [
      {"type": "blendbsdf", "weight": 0.5,
       "diffuse": {"type": "diffuse", "reflectance": rgb(0.15, 0.25, 0.55)},
       "copper": {"type": "roughconductor", "material": "Cu", "distribution": "ggx", "alpha": 0.1}}),
+    # A sharp highlight, a metallic principled and a very rough conductor.
+    ("plastic-grey-ggx-0.05", "rough plastic, GGX alpha 0.05, IOR 1.5, internal scattering",
+     {"type": "roughplastic", "distribution": "ggx", "alpha": 0.05, "int_ior": 1.5,
+      "nonlinear": True, "diffuse_reflectance": rgb(0.18, 0.2, 0.24)}),
+    # Mitsuba's principled has one microfacet distribution (GGX): no Beckmann.
+    ("principled-metallic", "principled, metallic 1, brass base, roughness 0.35",
+     {"type": "principled", "base_color": rgb(0.8, 0.6, 0.3), "metallic": 1.0, "roughness": 0.35}),
+    ("chromium-ggx-0.5", "rough conductor, measured Cr IOR, GGX alpha 0.5 (isotropic, very rough)",
+     {"type": "roughconductor", "material": "Cr", "distribution": "ggx", "alpha": 0.5}),
 ]
 
 
