@@ -30,29 +30,49 @@ fn table(one: &[Row], three: &[Row]) -> String {
     s + &format!("median           {:.4}   {:.4}", median(one), median(three))
 }
 
+/// BENCHMARKS.md's table ("From paintings: held-out fidelity"), model by model: held-out
+/// relative RMS from one painting and from three. `cargo run --release --example
+/// paint_fidelity` prints the same study.
+const STATED: [(&str, f64, f64); 11] = [
+    ("lambert", 0.0002, 0.0002),
+    ("blinn-phong-8", 0.0010, 0.0010),
+    ("blinn-phong-32", 0.0016, 0.0018),
+    ("blinn-phong-128", 0.0035, 0.0039),
+    ("ggx-0.2", 0.0648, 0.0573),
+    ("ggx-0.4", 0.1236, 0.0477),
+    ("ggx-0.7", 0.0665, 0.0106),
+    ("ward-0.2", 0.0255, 0.0134),
+    ("oren-nayar-0.5", 0.0505, 0.0349),
+    ("minnaert-0.75", 0.0560, 0.0042),
+    ("gooch", 0.0001, 0.0000),
+];
+/// The table's medians.
+const STATED_MEDIAN: (f64, f64) = (0.0255, 0.0042);
+
+/// A stated four-decimal figure and a measured one agree: within half the last digit plus 1%
+/// (the fit is deterministic; the 1% is float rounding across machines and libm).
+fn agrees(measured: f64, stated: f64) -> bool {
+    (measured - stated).abs() <= 5e-5 + 0.01 * stated
+}
+
 #[test]
 fn paintings_generalize_to_held_out_lights_and_views() {
     let (one, three) = study(PaintFormat::Png16);
     let t = table(&one, &three);
     eprintln!("{t}");
-    // Targets: median <= 0.05 from one painting, <= 0.03 from three (measured 0.026 and
-    // 0.011 at 256², 16-bit PNG).
-    assert!(median(&one) <= 0.05, "one view:\n{t}");
-    assert!(median(&three) <= 0.03, "three views:\n{t}");
+    // Targets: median <= 0.05 from one painting, <= 0.03 from three; BENCHMARKS.md states
+    // the measured medians and every model's figure, held here at those values.
+    assert!(median(&one) <= 0.05 && median(&three) <= 0.03, "targets:\n{t}");
+    assert!(agrees(median(&one), STATED_MEDIAN.0) && agrees(median(&three), STATED_MEDIAN.1), "medians against {STATED_MEDIAN:?}:\n{t}");
+    assert_eq!(one.len(), STATED.len(), "{t}");
+    for ((a, b), (model, s1, s3)) in one.iter().zip(&three).zip(STATED) {
+        assert_eq!(a.model, model, "{t}");
+        assert!(agrees(a.held_out, s1) && agrees(b.held_out, s3), "{model}: {:.4} / {:.4}, stated {s1} / {s3}\n{t}", a.held_out, b.held_out);
+    }
     // More views help: the median and the worst model both improve.
     assert!(median(&three) < median(&one), "{t}");
     let worst = |r: &[Row]| r.iter().map(|x| x.held_out).fold(0.0, f64::max);
     assert!(worst(&three) < worst(&one), "{t}");
-    // Per model: exact products (Lambert, Gooch) and Blinn-Phong nearly exact; nothing
-    // wild (measured worst: GGX 0.4 at 0.127 with one view, GGX 0.2 at 0.093 with three).
-    for (a, b) in one.iter().zip(&three) {
-        let bound = match a.model.as_str() {
-            "lambert" | "gooch" => 0.005,
-            m if m.starts_with("blinn-phong") => 0.03,
-            _ => 0.2,
-        };
-        assert!(a.held_out < bound && b.held_out < bound, "{}: bound {bound}\n{t}", a.model);
-    }
 }
 
 #[test]

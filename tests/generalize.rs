@@ -173,8 +173,9 @@ use brdfpaint::brdf::lobe::Base;
 
 /// Issue 15's targets on the 23-model wide suite, with the default `auto` base (a lobe of
 /// the family that explains the paintings, when one does: `brdf::lobe::Lobe`), judged on
-/// the five held-out views pooled: one painting median ≤ 0.03, three paintings ≤ 0.015
-/// (measured 0.0147 and 0.0060; the plain product 0.0843 and 0.0330). A Phong sphere, which no
+/// the five held-out views pooled: one painting median ≤ 0.03, three paintings ≤ 0.015 (the
+/// issue's targets); BENCHMARKS.md states 0.0001 and 0.0000, held here to their printed
+/// digits (the plain product: 0.0843 and 0.0330). A Phong sphere, which no
 /// table of θ_h holds, is carried to the rim light by its Phong lobe from one painting
 /// (measured rim view 0.0000, plain 0.687).
 #[test]
@@ -187,7 +188,7 @@ fn the_wide_suite_meets_its_one_and_three_painting_targets() {
     let three = measure_based(&models, &Settings::default(), &paintings(3), BaseChoice::Auto).unwrap();
     let (m1, m3) = (median_of(&one), median_of(&three));
     eprintln!("wide suite, auto base: median held-out from one painting {m1:.4}, from three {m3:.4}");
-    assert!(m1 <= 0.03 && m3 <= 0.015, "one painting {m1:.4}, three {m3:.4}");
+    assert!(m1 < 1.5e-4 && m3 < 5e-5, "one painting {m1:.4}, three {m3:.4} (stated 0.0001, 0.0000)");
     let phong = one.iter().find(|r| r.model == "phong-50").unwrap();
     let plain = &measure_based(&[models.iter().find(|m| m.name() == "phong-50").unwrap().clone()], &Settings::default(), &paintings(1), BaseChoice::None).unwrap()[0];
     let rim = 3; // study::suite::held_out's order: held-1..3, rim, side
@@ -200,4 +201,31 @@ fn the_wide_suite_meets_its_one_and_three_painting_targets() {
     let ashikhmin = three.iter().find(|r| r.model == "ashikhmin-shirley-100").unwrap();
     eprintln!("worst view from three paintings: {worst:?}; ashikhmin-shirley-100 rim {:.4}", ashikhmin.views[rim]);
     assert!(worst.1 <= 0.3 && ashikhmin.views[rim] < 0.01, "worst {worst:?}, ashikhmin-shirley-100 rim {:.4}", ashikhmin.views[rim]);
+}
+
+/// README: from the wide suite's three wide paintings (key, side and back light) the median
+/// held-out error with the default base is 0.0000 whether a factor of θ_d is added or not
+/// (printed to four decimals: below 5e-5), and the 20 models of a lobe family (all but
+/// velvet and the two Gooch models) are within 0.001 (measured: GGX 0.0004–0.0010, the rest
+/// below 1e-4). The fits are deterministic; the bounds are the stated precision.
+#[test]
+fn the_wide_suite_from_wide_paintings_is_exact_with_the_base() {
+    use brdfpaint::factor::{DifferenceChoice, Pattern};
+    use brdfpaint::read::lobe::BaseChoice;
+    use brdfpaint::study::suite::{measure_based, wide_paintings};
+    let models = Analytic::wide_suite();
+    let wide = wide_paintings();
+    let pattern = Pattern::concat(&wide.iter().map(|v| v.pattern()).collect::<Vec<_>>());
+    for choice in [DifferenceChoice::Off, DifferenceChoice::Auto] {
+        let (settings, added) = choice.apply(&Settings::default(), &pattern);
+        let rows = measure_based(&models, &settings, &wide, BaseChoice::Auto).unwrap();
+        let m = brdfpaint::study::median(&rows.iter().map(|r| r.held_out).collect::<Vec<_>>());
+        let of_no_family = |name: &str| matches!(name, "velvet-0.35" | "gooch" | "gooch-specular");
+        let family: Vec<(&str, f64)> = rows.iter().filter(|r| !of_no_family(&r.model)).map(|r| (r.model.as_str(), r.held_out)).collect();
+        let worst = family.iter().cloned().fold(("", 0.0), |a, b| if b.1 > a.1 { b } else { a });
+        eprintln!("wide paintings, θ_d {choice:?} (added: {added}): median {m:.6}; worst of a family {worst:?}");
+        assert!(m < 5e-5, "θ_d {choice:?}: median {m}");
+        assert_eq!(family.len(), 20);
+        assert!(worst.1 < 1e-3, "θ_d {choice:?}: {worst:?}");
+    }
 }

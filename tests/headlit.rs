@@ -46,20 +46,39 @@ fn a_headlit_painting_with_black_strokes_does_not_collapse() {
     assert!(rows[0].sweep <= 0.5, "sweep {}", rows[0].sweep);
 }
 
-/// Rough diffuse materials painted lit from the front, with brush texture or every fault:
-/// the light sweep's darkest frame is at most half its brightest (issue 11's target). A
-/// headlit Minnaert painting with brush texture was held best by a lobe over an ambient and
-/// kept 53% of its brightness with the light behind it (256²). At 128², without the prior
-/// and the headlit lobe rule: held-out 0.62–0.89 (measured now: 0.016–0.27, worst Oren-Nayar
-/// with every fault).
+/// Every analytic model of the faults study but Gooch (whose cool unlit side is what it
+/// should keep), painted lit from the front at 128², clean and with each fault of the study
+/// and all of them together: the light sweep's darkest frame over its brightest, held at
+/// what README states. At most 0.435 (README: 0.43; issue 11's target 0.5) except two:
+/// painted with the light 10° off, Minnaert's 0.485 (README: 0.49); in six flat tones a
+/// headlit Minnaert painting does not darken at all (1.00, held-out 0.60: README says so,
+/// and this test fails when that changes, so README can follow). With brush texture or
+/// every fault, the held-out error stays under 0.4 (without the prior and the headlit lobe
+/// rule: 0.62–0.89).
 #[test]
 fn headlit_paintings_darken_when_the_light_moves_behind() {
-    for f in [Faults::brush(), Faults::all()] {
-        for r in headlit(&f, &["lambert", "oren-nayar-0.5", "minnaert-0.75", "blinn-phong-8"]) {
-            assert!(r.sweep <= 0.5, "{} ({f:?}): sweep {}", r.model, r.sweep);
-            assert!(r.held_out < 0.4, "{} ({f:?}): held-out {}", r.model, r.held_out);
+    const DARKEST: f64 = 0.435;
+    let names: Vec<String> = faults::suite().iter().map(|m| m.name()).filter(|n| n != "gooch").collect();
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    assert_eq!(names.len(), 8, "{names:?}");
+    let mut failures = Vec::new();
+    for (case, f) in Faults::cases() {
+        for r in headlit(&f, &names) {
+            eprintln!("{case:<14} {:<16} sweep {:.4}", r.model, r.sweep);
+            let ok = match (case, r.model.as_str()) {
+                ("light 10° off", "minnaert-0.75") => r.sweep <= 0.49,
+                ("6 levels", "minnaert-0.75") => r.sweep >= 0.995,
+                _ => r.sweep <= DARKEST,
+            };
+            if !ok {
+                failures.push(format!("{} ({case}): sweep {:.4}", r.model, r.sweep));
+            }
+            if matches!(case, "brush" | "all") {
+                assert!(r.held_out < 0.4, "{} ({case}): held-out {}", r.model, r.held_out);
+            }
         }
     }
+    assert!(failures.is_empty(), "{failures:#?}");
 }
 
 /// The headlit rule, worked by hand: a pattern is headlit when most of its samples see the

@@ -1,7 +1,8 @@
 //! Lit spheres and MatCaps (`brdfpaint fit --lit-sphere`): the disk is found and the key
-//! light estimated on rendered analytic spheres (the truth known), every bundled MatCap gets
-//! a light in front of the sphere and a material that darkens when the light goes behind,
-//! and bad pictures are refused in one line.
+//! light estimated on rendered analytic spheres (the truth known; a light behind the sphere
+//! is read as the nearest light the search allows, in front), every bundled MatCap gets a
+//! material that darkens when the light goes behind, and bad pictures are refused in one
+//! line.
 
 use std::path::Path;
 use std::process::Command;
@@ -61,6 +62,41 @@ fn light_of_rendered_analytic_spheres_within_10_degrees() {
     eprintln!("worst {worst:.1}°");
 }
 
+/// The search covers the front of the sphere only ($l_z \ge$ `MIN_LIGHT_Z`: one picture
+/// cannot tell a light behind from a rim light). A sphere rendered with a known light behind
+/// it and to one side is read as the nearest light the search allows: the true light's
+/// azimuth at `MIN_LIGHT_Z`. A light in front but near grazing is found as it is. Both
+/// truths are known independently of the estimator, so this fails if the search strays
+/// behind the sphere, stops short of its edge, or loses the light's side.
+#[test]
+fn a_light_behind_the_sphere_is_read_as_the_nearest_front_light() {
+    use brdfpaint::litsphere::MIN_LIGHT_Z;
+    let model = Analytic::Lambert { albedo: [0.7, 0.45, 0.2] };
+    let nearest_in_front = |l: DVec3| {
+        let l = l.normalize();
+        if l.z >= MIN_LIGHT_Z {
+            return l;
+        }
+        let side = DVec3::new(l.x, l.y, 0.0).normalize();
+        side * (1.0 - MIN_LIGHT_Z * MIN_LIGHT_Z).sqrt() + DVec3::Z * MIN_LIGHT_Z
+    };
+    // Behind on the left, behind above on the right, behind below; in front at grazing.
+    let lights = [DVec3::new(-1.0, 0.2, -0.3), DVec3::new(0.8, 0.6, -0.4), DVec3::new(0.1, -1.0, -0.2), DVec3::new(0.9, 0.3, 0.2)];
+    let mut worst = 0.0f64;
+    for light in lights {
+        let picture = sphere_picture(&model, light, 160, (240, 200), (50, 20));
+        let (disk, _) = find_disk(&picture, "sphere").unwrap();
+        let e = estimate_light(&picture, &disk).unwrap();
+        let want = nearest_in_front(light);
+        let angle = e.direction.angle_between(want).to_degrees();
+        eprintln!("light {light}: estimated {:.3}, nearest in front {want:.3}, off by {angle:.1}°", e.direction);
+        assert!(e.direction.z >= MIN_LIGHT_Z - 1e-9, "light {light} estimated behind: {}", e.direction);
+        assert!(angle < 10.0, "light {light}: estimated {}, {angle:.1}° from {want}", e.direction);
+        worst = worst.max(angle);
+    }
+    eprintln!("worst {worst:.1}°");
+}
+
 /// Mean luminance of the object's pixels (alpha 1) of a render.
 fn object_luminance(image: &brdfpaint::render::Image, w: usize, h: usize) -> f64 {
     let (mut sum, mut n) = (0.0, 0usize);
@@ -77,9 +113,10 @@ fn object_luminance(image: &brdfpaint::render::Image, w: usize, h: usize) -> f64
 }
 
 #[test]
-fn every_bundled_matcap_gets_a_front_light_and_darkens_when_the_light_goes_behind() {
-    // The issue asks for 0.5; every MatCap does better (see the end).
-    const DARKEST: f64 = 0.45;
+fn every_bundled_matcap_darkens_when_the_light_goes_behind() {
+    // The issue asks for 0.5; README states 0.41 for every one of the 23 MatCaps (the fits
+    // are deterministic: resin's 0.405 is the largest, see the end).
+    const DARKEST: f64 = 0.41;
     let ctx = HeadlessContext::new().unwrap();
     let mut renderer = Renderer::new(ctx.gl()).unwrap();
     let scene = Scene::from_preset("bunny", "front").unwrap();
@@ -88,7 +125,7 @@ fn every_bundled_matcap_gets_a_front_light_and_darkens_when_the_light_goes_behin
     let dir = tempfile::tempdir().unwrap();
     let mut names: Vec<_> = std::fs::read_dir(MATCAPS).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "exr")).collect();
     names.sort();
-    assert!(names.len() >= 20, "{names:?}");
+    assert_eq!(names.len(), 23, "{names:?}");
     let mut failures = Vec::new();
     for path in &names {
         let stem = path.file_stem().unwrap().to_string_lossy().to_string();
@@ -96,10 +133,10 @@ fn every_bundled_matcap_gets_a_front_light_and_darkens_when_the_light_goes_behin
         let run = bin().args(["fit", "--lit-sphere"]).arg(path).arg("--out").arg(&out).output().unwrap();
         let stdout = String::from_utf8_lossy(&run.stdout);
         assert!(run.status.success(), "{stem}: {}", String::from_utf8_lossy(&run.stderr));
-        // "light estimated at (x, y, z)": in front of the sphere, z > 0.
+        // "light estimated at (x, y, z)": printed for the record. That it is in front is the
+        // search's domain, not a finding (`a_light_behind_the_sphere_is_read_as_...`).
         let at = stdout.split("light estimated at (").nth(1).unwrap();
         let z: f64 = at.split(')').next().unwrap().split(',').nth(2).unwrap().trim().parse().unwrap();
-        assert!(z > 0.0, "{stem}: light behind the sphere:\n{stdout}");
         // A light sweep about the vertical axis: from the camera to behind the bunny.
         let material = Material::load(&out).unwrap();
         let shading = renderer.upload(&material).unwrap();
@@ -117,7 +154,7 @@ fn every_bundled_matcap_gets_a_front_light_and_darkens_when_the_light_goes_behin
             failures.push(format!("{stem}: darkest frame {lo:.4} > {DARKEST} x brightest {hi:.4}"));
         }
     }
-    // Measured (darkest/brightest): resin 0.40, the reflection checks 0.38, every other
+    // Measured (darkest/brightest): resin 0.405, the reflection checks 0.375, every other
     // MatCap 0.35 or less. Before the lit-sphere light prior (litsphere::settings) three did
     // not darken to 0.5 (check_rim_dark 0.53, pearl 0.68, resin 0.67; the reflection checks
     // 0.62): lit from at or near the viewer, their pictures fix little more than the product
@@ -256,8 +293,8 @@ fn dragging_the_light_of_a_live_lit_sphere_refits_as_fit_with_that_light() {
     }
     eprintln!("{applied} views under new lights put in place during the drag; slowest frame {slowest:.3} s");
     assert!(applied >= 1, "the fit followed the drag");
-    // A refit of 200k samples, not a render or a prepare (those take 0.3-1 s here).
-    assert!(slowest < 0.25, "a drag frame took {slowest:.3} s");
+    // No frame waits for a render or a prepare; how long the slowest took is a benchmark
+    // (BENCHMARKS.md, "Lit spheres and MatCaps"), printed above, not asserted.
     let t = std::time::Instant::now();
     sphere.settle(&mut renderer, &mut session, k).unwrap();
     eprintln!("refitted for the dropped light in {:.2} s", t.elapsed().as_secs_f64());

@@ -114,7 +114,11 @@ fn a_painting_on_the_opaque_page_fits_like_one_with_transparent_gaps() {
     assert!(!out_a.contains("sheet's page"), "{out_a}");
     assert!(out_b.contains("made on the sheet's page"), "{out_b}");
     let (ea, eb) = (error(&mat_a, &model, &scene, &mut sampler), error(&mat_b, &model, &scene, &mut sampler));
-    eprintln!("transparent gaps {ea:.4}, on the opaque page {eb:.4}");
-    assert!(eb <= 1.5 * ea, "on the page {eb:.4} vs transparent gaps {ea:.4}");
-    assert!(ea < 0.1, "{ea}");
+    eprintln!("transparent gaps {ea:.6}, on the opaque page {eb:.6}");
+    // README and BENCHMARKS.md: relative RMS 0.00020 with transparent gaps, 0.00024 on the
+    // opaque page ("nearly as well"). Held at those values within their printed digit plus
+    // 2% (the fits are deterministic).
+    for (what, e, stated) in [("transparent gaps", ea, 0.00020), ("on the page", eb, 0.00024)] {
+        assert!((e - stated).abs() <= 5e-6 + 0.02 * stated, "{what}: {e:.6}, stated {stated}");
+    }
 }

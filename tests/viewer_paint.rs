@@ -412,10 +412,16 @@ fn watch_takes_a_painting_of_any_size_of_the_cameras_aspect_as_fit_does() {
 
 /// Issue 11's live-painting failure: white strokes over the example painting once drove
 /// q(h) to 5.6e10 (a chrome bunny with black holes). Every refit (live and settled) stays
-/// finite, and no rendered value over the whole sphere of directions exceeds 2× the bound (the bound holds on a grid of directions, 8×
-/// the painting's brightest value, plus a for the offset mapping).
+/// finite, and the brightest rendered value over the whole sphere of directions, as a
+/// multiple of the bound (8× the painting's brightest value, plus a for the offset
+/// mapping), is what README states: 1.47 at most in an instant refit (the bound is enforced
+/// on a grid of directions; between them the interpolated tables rise above it), 0.18 at
+/// most once settled.
 #[test]
 fn white_strokes_keep_every_refit_bounded() {
+    // README's figures; the fits are deterministic, so the margins are the printed digit.
+    const LIVE: f64 = 1.475;
+    const SETTLED: f64 = 0.185;
     use brdfpaint::factor::{LogMap, Query};
     let ctx = HeadlessContext::new().unwrap();
     let mut renderer = Renderer::new(ctx.gl()).unwrap();
@@ -439,7 +445,7 @@ fn white_strokes_keep_every_refit_bounded() {
             glam::DVec3::new(r * a.cos(), r * a.sin(), z)
         })
         .collect();
-    let check = |session: &PaintSession, when: &str| {
+    let check = |session: &PaintSession, when: &str, limit: f64| {
         let m = session.material().unwrap();
         let a = match m.terms[0].map {
             LogMap::Offset { a } => a.iter().cloned().fold(0.0, f64::max),
@@ -454,17 +460,17 @@ fn white_strokes_keep_every_refit_bounded() {
             }
         }
         // The painting's brightest value is white, 1 (the light is white, intensity 1).
-        // The bound holds on the grid of directions it checks; between them, measured up to
-        // 1.5x (11.9 before the grid-independent gentle step).
-        assert!(top <= 2.0 * (brdfpaint::factor::BOUND + a), "{when}: a rendered value of {top}");
+        let ratio = top / (brdfpaint::factor::BOUND + a);
+        eprintln!("{when}: brightest rendered value {top:.3}, {ratio:.4} x the bound");
+        assert!(ratio <= limit, "{when}: a rendered value of {top} ({ratio:.4} x the bound, README {limit})");
         top
     };
     for (n, s) in strokes.iter().enumerate() {
         session.views[k].canvas.stroke(white, s);
         session.refit().unwrap();
-        check(&session, &format!("live refit after stroke {n}"));
+        check(&session, &format!("live refit after stroke {n}"), LIVE);
         session.settle().unwrap();
-        let top = check(&session, &format!("settled after stroke {n}"));
+        let top = check(&session, &format!("settled after stroke {n}"), SETTLED);
         eprintln!("after stroke {n}: brightest rendered value {top:.3}");
     }
 }

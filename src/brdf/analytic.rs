@@ -283,8 +283,8 @@ impl Analytic {
     }
 }
 
-/// A parameter for a name: at most four decimals, trailing zeros dropped (0.2 → "0.2",
-/// $\sqrt{0.1}$ → "0.3162").
+/// A parameter for a name: at most four decimals, trailing zeros dropped (0.2 is written
+/// "0.2", $\sqrt{0.1}$ "0.3162").
 fn short(x: f64) -> String {
     let s = format!("{x:.4}");
     let s = s.trim_end_matches('0').trim_end_matches('.');

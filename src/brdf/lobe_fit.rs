@@ -235,8 +235,7 @@ fn linear_fit(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64
     // grazing θ_d get the model's own Fresnel, and those that do still decide it. (GGX's
     // k_s + k_f = 1 was tried and rejected: MERL's ABC lobes are not GGX's normalization, and
     // `auto` got worse than the plain product on 13 of them; no MERL material takes this
-    // family, so none changes.) Wide suite, worst held-out view from three paintings:
-    // Ashikhmin-Shirley's rim light 0.608 → 0.0001.
+    // family, so none changes.)
     let coupled = lobe == Lobe::AshikhminShirley;
     let target = if coupled { (Lobe::exponent(alpha) + 1.0) / (8.0 * PI) } else { 0.0 };
     for c in 0..3 {

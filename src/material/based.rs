@@ -23,15 +23,12 @@ use crate::factor::{errors, Errors, Fit, LogMap, Mapping, Pattern, Prepared, Que
 /// The product over a base is fitted to the softened ratio $(S + \varepsilon)/(B +
 /// \varepsilon)$, $\varepsilon$ this fraction of the channel's largest value: finite where
 /// the lobe is zero (the unlit side), near $S/B$ where the shading is bright, and near 1
-/// where both are dark, so the tables learn nothing from the dark. The lobe's ambient was
-/// floored at this level instead (until November 2026): where a lobe that fits has no
-/// ambient, $S/B$ then fell below 1 toward the terminator, the tables learnt that dimming
-/// along $\theta_l$ and carried it to rim light, whose highlight lies at grazing $\theta_l$
-/// (wide suite, three paintings, median 0.0162 floored, 0.0060 softened; a Phong sphere's rim
-/// view from one painting 0.10 → 0.0000). The level: the suite is the same from 0.001 to
-/// 0.01; the faults study's noisy paintings are 0.0043 at 0.001 and 0.0033 at 0.01, but a
-/// GGX lobe forced on the MERL set (`--base ggx`, three paintings) 0.124 and 0.149.
-/// BENCHMARKS.md, "Lobe families".
+/// where both are dark, so the tables learn nothing from the dark. (Flooring the lobe's
+/// ambient instead makes $S/B$ fall below 1 toward the terminator wherever a lobe that fits
+/// has no ambient; the tables learn that dimming along $\theta_l$ and carry it to rim light,
+/// whose highlight lies at grazing $\theta_l$.) The level: small against any lit value (a
+/// tenth of a percent of the largest), large against a 16-bit painting's quantization step
+/// (1.5e-5); the measurements that chose it are in docs/notes/history.md, "Source comments".
 pub const RATIO_SOFTENING: f64 = 0.001;
 
 /// A based fit: the lobe and the product fitted to $S / B$. [`Fit::errors`] are on $S$.

@@ -18,9 +18,10 @@ use glam::DVec3;
 pub const BASIS: usize = 7;
 
 /// The basis at one (l, v) in the local frame ($n = z$): lit side only for the lobes.
-/// Times the cosine the lobes fit Blinn-Phong shading: the painter's light 10° off is found
-/// within a degree more often than without (faults, `light 10° off` 0.046 → 0.022), and
-/// flat tones read through it come out smoother.
+/// Times the cosine the lobes fit Blinn-Phong shading, a physical lobe (lit side only,
+/// falling to zero at the terminator) rather than a free bump, so the light that explains
+/// the painting best is the one the shading's falloff points to, and flat tones read
+/// through it come out smoother (measured: docs/notes/history.md, "Source comments").
 pub fn basis(l: DVec3, v: DVec3) -> [f64; BASIS] {
     let nl = l.z.max(0.0);
     let nh = if nl > 0.0 { (l + v).normalize_or(DVec3::Z).z.max(0.0) } else { 0.0 };

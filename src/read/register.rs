@@ -284,9 +284,8 @@ fn proxy(samples: impl Iterator<Item = (DVec3, DVec3, f64)> + Clone, floor: f64)
 /// the light moved by a pattern search under that lobe (from [`REFINE_STEP_DEG`] down to a
 /// quarter of that), its width fitted again there, until it stays. The proxy has no term
 /// for a view-dependent diffuse and puts a Minnaert or Oren-Nayar painting's light a degree
-/// or so off, which their held-out error shows many times over: painted 10° off, Minnaert
-/// 0.056 → 0.017, Oren-Nayar 0.014 → 0.0001, and every fault 0.0505 → 0.0433 (nine models'
-/// median, brush seeds 1–12; BENCHMARKS.md, "The light refined under a lobe family"). Only
+/// or so off, which their held-out error shows many times over (docs/notes/history.md,
+/// "The light refined under a lobe family"). Only
 /// where the family's misfit is at most [`REFINE_GATE`] times the proxy's (a Gooch
 /// painting's cool side is in no family, and a lobe moved it 2° for nothing), and not under
 /// a headlight, where the lobes hold the painting's one angle under any light.

@@ -98,14 +98,12 @@ const PASSES: usize = 2;
 /// rest. After the first pass, in the faults study's painting with every fault (seed 11),
 /// the missed stroke pixels lie a median 0.27–0.57 tone widths outside their tones for seven
 /// of the nine models, while the other pixels' 99th percentile is 0.02–0.47. Only in views
-/// that have strays (found by the log ratio): applied to every toned view, 6 flat tones
-/// alone went 0.0276 → 0.0356 (10° off, seeds 11, 1, 2, 3) from a few dozen pixels along the
-/// outline. Not about the mirror point ([`HIGHLIGHT_DEG`]), where a glossy highlight a few
-/// degrees off the fit's is a tone off on both sides. With every fault, over the eight brush
-/// seeds it was chosen on, the nine models' median held-out error went 0.0643 → 0.0577 (mean
-/// of medians; 0.0599 at 1.0, 0.0589 at 1.3, 0.0622 at 1.5, 0.0650 at 2); over eight other
-/// seeds it stayed (0.0601 → 0.0608), while of the pixels the strokes put in another tone
-/// it misses a third fewer (BENCHMARKS.md, "Strokes one tone off").
+/// that have strays (found by the log ratio): a view without strokes has only the tones'
+/// own interpolation error along the outline, which this rule would take for strokes. Not
+/// about the mirror point ([`HIGHLIGHT_DEG`]), where a glossy highlight a few degrees off
+/// the fit's is a tone off on both sides. The factor sits above the other pixels' tail so
+/// that a stroke is a pixel the tones cannot explain; the study that chose 1.2 is in
+/// docs/notes/history.md, "Source comments".
 const TONE_TAIL: f64 = 1.2;
 /// The least distance outside a tone (in its widths) that makes a toned sample a stray.
 const MIN_OFF_TONE: f64 = 0.2;
@@ -314,10 +312,9 @@ fn off_tone(fit: &[f64; 3], light: [f64; 3], bounds: &Bounds) -> f64 {
 /// of at least `least` pixels; a render's misfit is a few pixels along a highlight's or a
 /// crescent's edge. A smaller blob of at least [`MIN_STROKE_PIXELS`] that reaches the outline
 /// of `outline` ([`reaches_outline`]) is a stroke too: people paint across the outline, and
-/// what lands on the object is often only a stroke's end. Those ends were dropped as misfit: eight
-/// strokes across the outline of a sphere painting, otherwise clean, were read to a held-out
-/// error of 0.052 (nine models' median, seed 11), and 0.013 with them (seeds 1 and 2:
-/// 0.041 → 0.008, 0.042 → 0.009; BENCHMARKS.md, "Stray strokes across the outline").
+/// what lands on the object is often only a stroke's end, too small alone to tell from a
+/// render's misfit but not shaped like one (a misfit follows the shading's edges, not the
+/// outline). The measurements are in docs/notes/history.md, "Source comments".
 /// And a blob that is the view's highlight is none: brighter than the fit
 /// where it misses it most (`at`, `brighter`), and reaching within [`HIGHLIGHT_DEG`] of the
 /// view's smallest $\theta_h$ (`theta_h`, NaN off the samples).

@@ -172,10 +172,9 @@ pub struct Luminance {
 /// least-squares fit to the intervals, and a few such sites bend it for all the rest: a Ward
 /// sphere in 6 flat tones with eight stray strokes was read through the Ashikhmin-Shirley
 /// lobe, its tones left by 0.118; without its 74 outliers, through Phong's, left by 0.032.
-/// With every fault, over eight brush seeds, the median held-out error went 0.0713 → 0.0671
-/// (mean of medians; 0.0668 at 0.75 widths and 0.0672 at 1.5, 0.069 at 0.5 and at 2;
-/// leaving out only sets of at least 0.05% of the sites, 0.0688: BENCHMARKS.md). The
-/// outliers keep their interpolation. The lights a toned view is judged under
+/// One interval width: a site the shading explains lies within its interval, so a miss of a
+/// whole width is not the reading's error but the site's (the sweep over the width is in
+/// docs/notes/history.md, "Source comments"). The outliers keep their interpolation. The lights a toned view is judged under
 /// ([`held`]) are judged on the first reading: judged on the second too, the eight seeds'
 /// medians were the same, at a second reading per light judged.
 const OUTLIER_WIDTHS: f64 = 1.0;
@@ -445,12 +444,11 @@ fn family(
 /// lobes leave the intervals this many times less; under a headlight, only where the family
 /// leaves them this many times less than the proxy. A physical family is the better guess
 /// where the painting has no tones to say, and brush texture moves the tone edges so that
-/// every family and the proxy hold them about equally (faults study, all faults: the proxy
-/// 0.0744; the family whenever no worse 0.0707, whatever its margin from 1.2 up 0.0666; 6
-/// levels 0.068 → 0.026). Under a headlight every family holds the tones through some
-/// function of the one angle the painting shows, and which one is read decides the material
-/// under every other light: there the family only when clearly better (at 1, headlit
-/// Lambert with every fault went 0.067 → 0.153).
+/// every family and the proxy hold them about equally. Under a headlight every family holds
+/// the tones through some function of the one angle the painting shows, and which one is
+/// read decides the material under every other light: there the family only when clearly
+/// better, by this factor (the study behind both is in docs/notes/history.md, "Source
+/// comments").
 const LOBE_MARGIN: f64 = 2.0;
 
 /// A rectangle of an image `w` pixels wide: the bounding box of some of its pixels.
