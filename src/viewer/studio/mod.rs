@@ -235,6 +235,22 @@ impl Studio {
             Ok(false) => {}
             Err(e) => self.status.fail(e.to_string()),
         }
+        self.full_fit_tick();
+    }
+
+    /// Once the strokes pause, `brdfpaint fit`'s fit of the paintings (reading, base) runs on
+    /// a worker; when it lands the window shows it and its notes, each line alone.
+    fn full_fit_tick(&mut self) {
+        match self.easel.session.poll_full(std::time::Instant::now()) {
+            Ok(true) => {
+                self.status.error = None;
+                self.live_changed();
+                let notes = self.easel.session.full_fit().map(|f| crate::live::full::lines(&f.notes)).unwrap_or_default();
+                self.note(format!("settled on the fit of the paintings as `fit` reads them\n{notes}"));
+            }
+            Ok(false) => {}
+            Err(e) => self.status.fail(format!("full fit: {e} (showing the live fit)")),
+        }
     }
 
     /// Whether frames should keep coming without input.
@@ -247,10 +263,10 @@ impl Studio {
         self.env.drawn();
     }
 
-    /// Whether a prepare (or a lit sphere's view under a new light) is made in the
-    /// background: its result needs a frame when it lands.
+    /// Whether a prepare, a full fit (or its pause) or a lit sphere's view under a new light
+    /// is under way in the background: its result needs a frame when it lands.
     pub fn preparing(&self) -> bool {
-        self.easel.session.preparing() || self.sphere_waiting()
+        self.easel.session.preparing() || self.easel.session.full_owed() || self.sphere_waiting()
     }
 
     pub fn watching(&self) -> bool {
