@@ -216,12 +216,6 @@ impl FullFits {
     }
 }
 
-/// What a caller sees of a full fit's notes: each one's line, without a flag (the viewer
-/// has none), one per line.
-pub fn lines(notes: &[Note]) -> String {
-    notes.iter().map(Note::to_string).collect::<Vec<_>>().join("\n")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

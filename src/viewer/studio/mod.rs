@@ -239,14 +239,12 @@ impl Studio {
     }
 
     /// Once the strokes pause, `brdfpaint fit`'s fit of the paintings (reading, base) runs on
-    /// a worker; when it lands the window shows it and its notes, each line alone.
+    /// a worker; when it lands the window shows it, and the state line its notes.
     fn full_fit_tick(&mut self) {
         match self.easel.session.poll_full(std::time::Instant::now()) {
             Ok(true) => {
                 self.status.error = None;
                 self.live_changed();
-                let notes = self.easel.session.full_fit().map(|f| crate::live::full::lines(&f.notes)).unwrap_or_default();
-                self.note(format!("settled on the fit of the paintings as `fit` reads them\n{notes}"));
             }
             Ok(false) => {}
             Err(e) => self.status.fail(format!("full fit: {e} (showing the live fit)")),
@@ -263,10 +261,16 @@ impl Studio {
         self.env.drawn();
     }
 
-    /// Whether a prepare, a full fit (or its pause) or a lit sphere's view under a new light
-    /// is under way in the background: its result needs a frame when it lands.
+    /// Whether a prepare (or a lit sphere's view under a new light) is made in the
+    /// background: its result needs a frame when it lands.
     pub fn preparing(&self) -> bool {
-        self.easel.session.preparing() || self.easel.session.full_owed() || self.sphere_waiting()
+        self.easel.session.preparing() || self.sphere_waiting()
+    }
+
+    /// Whether the paintings wait for their full fit (the pause after the strokes, or the
+    /// fit on its worker): a frame is needed to start it and to show it when it lands.
+    pub fn settling(&self) -> bool {
+        self.easel.session.full_owed()
     }
 
     pub fn watching(&self) -> bool {
@@ -482,6 +486,10 @@ impl Studio {
             }
         } else if e.session.preparing() {
             format!("painted {}: preparing the new pixels...", painted.join(", "))
+        } else if let Some(full) = e.session.full_fit() {
+            // The notes as the viewer tells them: each line alone, no option named.
+            let notes = full.notes.iter().map(|n| format!("\n{n}")).collect::<String>();
+            format!("fitted {} as `fit` reads them{notes}", painted.join(", "))
         } else {
             let samples = self.meter.last.map_or(String::new(), |r| format!("{} samples from ", r.samples));
             format!("fitted {samples}{}", painted.join(", "))
