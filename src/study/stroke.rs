@@ -40,6 +40,9 @@ pub struct StrokeTiming {
     pub total_during_fit_ms: f64,
     /// The background prepare for the painting (once per set of painted pixels).
     pub prepare_ms: f64,
+    /// One full fit of the painting on its worker, start to result (`fit`'s reading and fit,
+    /// prepared without a cache): how long after the pause the window settles.
+    pub full_fit_ms: f64,
 }
 
 /// Measures stroke → samples → solve → upload → frame on a headless context (Mesa's software
@@ -65,8 +68,12 @@ pub fn measure_stroke_to_frame(model: &str, size: usize, strokes: usize) -> Resu
     let mut loop_ = StrokeLoop { gl: &gl, renderer: &mut renderer, gpu: &gpu, target: Framebuffer::new(&gl, size, size)?, size };
     let rows = loop_.run(&mut session, strokes, false)?;
     let during = loop_.run(&mut session, strokes, true)?;
-    // The last worker finishes before the next measurement (its result is stale: dropped).
+    // The last worker finishes (its result is stale: dropped), then one full fit is timed.
     session.wait_full()?;
+    let t = Instant::now();
+    session.start_full();
+    session.wait_full()?;
+    let full_fit_ms = t.elapsed().as_secs_f64() * 1e3;
     let column = |i: usize| if rows.is_empty() { 0.0 } else { median(&rows.iter().map(|r| r[i]).collect::<Vec<_>>()) };
     let total = |rows: &[[f64; 5]]| if rows.is_empty() { 0.0 } else { median(&rows.iter().map(|r| r.iter().sum()).collect::<Vec<f64>>()) };
     let prepared = session.prepared_samples().unwrap_or(0);
@@ -83,6 +90,7 @@ pub fn measure_stroke_to_frame(model: &str, size: usize, strokes: usize) -> Resu
         total_ms: total(&rows),
         total_during_fit_ms: total(&during),
         prepare_ms,
+        full_fit_ms,
     })
 }
 
