@@ -11,7 +11,7 @@
 
 use std::path::{Path, PathBuf};
 
-use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::study::median;
 use brdfpaint::study::photos::{self, Row};
 

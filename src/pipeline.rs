@@ -1,8 +1,9 @@
 //! The one path from paintings to a material (DESIGN.md, Data flow). `brdfpaint fit` (scenes
 //! and lit spheres) and the demo go through here; the command line only parses and prints.
 //! Live painting ([`crate::live`]) refits on a prepared system it keeps current in the
-//! background, with this module's settings rule and provenance, and its settled fit is this
-//! path's to the last bit (tests/viewer_paint.rs).
+//! background, with this module's settings rule and provenance; once the strokes pause it
+//! runs [`Loaded::read_and_fit`] on a worker thread, so the window settles on the material
+//! `brdfpaint fit` writes (tests/live_full_fit.rs).
 //!
 //! ```text
 //! scene + painting ──load_views──► PaintedView ─┐            (sample: G-buffer → l, v, uv per pixel)
@@ -45,8 +46,8 @@ pub struct Options {
     /// Terms, coefficient resolution and method of a material map or hybrid.
     pub map: MapOptions,
     /// The analytic base under a uniform product ([`crate::brdf::lobe`], issue 15).
-    /// `None` by default (the demo, lit spheres and live painting fit the plain product);
-    /// `brdfpaint fit` passes its `--base`, `auto` unless told.
+    /// `None` by default (the demo and lit spheres fit the plain product); `brdfpaint fit`
+    /// passes its `--base`, `auto` unless told, and live painting settles on `auto`.
     pub base: BaseChoice,
     /// Whether the product gets a factor of $\theta_d$ ([`DifferenceChoice`], issue 15):
     /// `auto` adds it to a uniform fit whose paintings show side or back light.
@@ -134,6 +135,16 @@ impl Loaded {
         self.views = evidence.views;
         self.notes.extend(evidence.notes);
         Ok(())
+    }
+
+    /// Reads the paintings ([`Loaded::read`]) and fits them ([`fit`]), the load's and the
+    /// reading's notes before the fit's: what `brdfpaint fit` makes of loaded views, and
+    /// what live painting settles on. Returns the views as read.
+    pub fn read_and_fit(mut self, reading: &Reading, opts: &Options, cache: Option<&Cache>) -> Result<(Vec<PaintedView>, Fitted)> {
+        self.read(reading, opts.kind)?;
+        let mut fitted = fit(&self.views, opts, cache)?;
+        fitted.prepend_notes(&self.notes);
+        Ok((self.views, fitted))
     }
 }
 

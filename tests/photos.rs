@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 
 use brdfpaint::brdf::{Analytic, Reflectance, SphereView};
-use brdfpaint::factor::base::BaseChoice;
+use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::images::Painting;
 use brdfpaint::material::Material;
 use brdfpaint::sample::{MapFrame, PhotoCamera, PhotoFolder, PhotoInput, PhotoLight};

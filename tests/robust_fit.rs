@@ -186,7 +186,7 @@ fn noise_over_brush_texture_keeps_the_lobe() {
 
 /// A white stroke in the shadow makes the stray search's own fit collapse (its light factor
 /// drawn up at the terminator, every sample missed, no stroke standing out), and then no stray
-/// is found; the search is fitted again with the light prior (`sample::strays::COLLAPSED`).
+/// is found; the search is fitted again with the light prior (`read::strays`).
 /// Brush seed 20 with strays and the light 10° off, at 256² (at 128² the fit does not
 /// collapse), judged on held-out lights and views against the clean truth: Blinn-Phong 8
 /// 0.0097 and Ward 0.0241 (worst view 0.039); without the refit no stray was found, 0.402

@@ -8,6 +8,8 @@
 //! - [`canvas`]: the painting, brush, eraser, fill and exact undo/redo.
 //! - [`session`]: the prepared system and the refit a stroke triggers; several views feed
 //!   one fit.
+//! - [`full`]: once the strokes pause, `brdfpaint fit`'s own fit of the paintings (reading,
+//!   base, notes) on a worker thread, shown while the paintings are the ones it read.
 //! - [`watch`]: refit when another program rewrites a painting.
 //! - [`sphere`]: a lit sphere or MatCap as a view, with a light the user moves.
 //! - [`slots`]: the pixels of a view that are samples.
@@ -36,6 +38,7 @@
 
 pub mod canvas;
 mod example;
+pub mod full;
 pub mod session;
 pub mod slots;
 pub mod sphere;
@@ -44,6 +47,7 @@ pub mod watch;
 
 pub use canvas::{blank, Brush, Canvas, CanvasRect, Painting};
 pub use example::example_painting;
+pub use full::{FullFit, Stamp};
 pub use session::{fit_views, PaintSession, Refit};
 pub use slots::Slot;
 pub use sphere::SphereSession;

@@ -19,11 +19,16 @@
 //! paintings in one go ([`fit_views`]), to the last bit.
 //!
 //! Several painted views feed one fit: their patterns are concatenated (thesis 4.4).
+//!
+//! That fit is the plain product. Once the strokes pause, [`PaintSession::poll_full`] runs
+//! `brdfpaint fit`'s full path (reading, base) on a worker thread ([`super::full`]);
+//! [`PaintSession::material`] shows its material while the paintings are the ones it read.
 
 use std::sync::mpsc;
 use std::sync::Arc;
 use std::time::Instant;
 
+use super::full::{self, FullFit, FullFits, Landed, Stamp};
 use super::view::PaintView;
 use crate::error::{Error, Result};
 use crate::factor::{self, Errors, Fit, LogMap, Mapping, Pattern, Prepared, Settings};
@@ -128,6 +133,10 @@ pub struct PaintSession {
     material: Option<Material>,
     /// Under `Mapping::Auto`, the mapping the last full solve chose; live refits keep it.
     chosen: Option<LogMap>,
+    /// Moves whenever the views, the settings or the mapping change ([`Stamp`]).
+    epoch: u64,
+    /// `brdfpaint fit`'s fit of the paintings, on a worker once the strokes pause.
+    full: FullFits,
 }
 
 impl PaintSession {
@@ -142,6 +151,8 @@ impl PaintSession {
             fit: None,
             material: None,
             chosen: None,
+            epoch: 0,
+            full: FullFits::default(),
         }
     }
 
@@ -161,6 +172,7 @@ impl PaintSession {
             self.system = None;
             self.pending = None;
             self.chosen = None;
+            self.epoch += 1;
         }
         Ok(())
     }
@@ -169,6 +181,7 @@ impl PaintSession {
     pub fn set_mapping(&mut self, mapping: Mapping) {
         self.mapping = mapping;
         self.chosen = None;
+        self.epoch += 1;
     }
 
     /// Adds a view; returns its index.
@@ -177,6 +190,7 @@ impl PaintSession {
         // The views changed: whatever was prepared no longer lines up.
         self.system = None;
         self.pending = None;
+        self.epoch += 1;
         self.views.len() - 1
     }
 
@@ -187,12 +201,77 @@ impl PaintSession {
         // The slots changed: whatever was prepared no longer lines up.
         self.system = None;
         self.pending = None;
+        self.epoch += 1;
         Some(old)
     }
 
-    /// The current material, if anything has been fitted.
+    /// The current material, if anything has been fitted: `brdfpaint fit`'s of the
+    /// paintings as they are ([`PaintSession::full_fit`]) when it has landed, else the live
+    /// refit's plain product.
     pub fn material(&self) -> Option<&Material> {
+        self.full_fit().map(|f| &f.material).or(self.material.as_ref())
+    }
+
+    /// The live refit's material (the plain product on the prepared system), full fit or not.
+    pub fn live_material(&self) -> Option<&Material> {
         self.material.as_ref()
+    }
+
+    /// The state of the paintings: the epoch and every canvas's version.
+    pub fn stamp(&self) -> Stamp {
+        Stamp { epoch: self.epoch, versions: self.views.iter().map(|v| v.canvas.version()).collect() }
+    }
+
+    /// The full fit (reading, base, notes) of the paintings as they are, if it has landed.
+    pub fn full_fit(&self) -> Option<&FullFit> {
+        self.full.current(&self.stamp())
+    }
+
+    /// Turns the full fit on (the default) or off (a session `fit` does not fit as scenes:
+    /// a lit sphere's).
+    pub fn set_full_fit(&mut self, on: bool) {
+        self.full.off = !on;
+    }
+
+    /// Whether the paintings as they are still wait for a full fit (one runs, or one starts
+    /// after the pause): a caller keeps polling.
+    pub fn full_owed(&self) -> bool {
+        self.any_paint() && self.full.owed(&self.stamp())
+    }
+
+    /// The full fit's step at `now`: takes a finished fit (shown when it is of the paintings
+    /// as they are, dropped otherwise), and starts one when the paintings have not changed
+    /// for [`full::PAUSE`] and no stroke is in progress. `Ok(true)` when a fit landed that
+    /// [`PaintSession::material`] now shows. Errors: the fit failed (the live material stays).
+    pub fn poll_full(&mut self, now: Instant) -> Result<bool> {
+        let stamp = self.stamp();
+        let landed = self.full.take(&stamp, false)?;
+        self.full.observe(&stamp, now);
+        let stroking = self.views.iter().any(|v| v.canvas.stroking());
+        if !stroking && self.any_paint() && self.full.due(&stamp, now) {
+            self.start_full();
+        }
+        Ok(matches!(landed, Landed::Current))
+    }
+
+    /// Starts the full fit of the paintings as they are now, without waiting for a pause
+    /// (nothing when one runs already). Nothing painted: the fit fails with that error.
+    pub fn start_full(&mut self) {
+        let opts = full::options(&self.settings, self.mapping);
+        self.full.start(self.stamp(), &self.views, opts);
+    }
+
+    /// Takes a finished full fit without waiting: `Ok(true)` when it is of the paintings as
+    /// they are and is now shown; `Ok(false)` when none has finished, or it is stale (dropped).
+    pub fn take_full(&mut self) -> Result<bool> {
+        Ok(matches!(self.full.take(&self.stamp(), false)?, Landed::Current))
+    }
+
+    /// Waits for the running full fit, if any. `Ok(true)` when it is of the paintings as
+    /// they are and is now shown; `Ok(false)` when there was none or the paintings changed
+    /// since it started (dropped). For tests and benchmarks; the viewer polls.
+    pub fn wait_full(&mut self) -> Result<bool> {
+        Ok(matches!(self.full.take(&self.stamp(), true)?, Landed::Current))
     }
 
     /// The current fit (tables and mapping).
@@ -203,6 +282,11 @@ impl PaintSession {
     /// Painted samples over all views.
     pub fn painted(&self) -> usize {
         self.views.iter().map(|v| v.painted_slots().len()).sum()
+    }
+
+    /// Whether some pixel of some view is painted.
+    fn any_paint(&self) -> bool {
+        self.views.iter().any(|v| v.canvas.painting().alpha.iter().any(|&a| a > 0.0))
     }
 
     /// Whether a prepare is running in the background.

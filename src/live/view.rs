@@ -7,11 +7,12 @@
 //! ([`PaintView::resized`]), so its samples are exactly the ones `fit` takes from it.
 
 use std::path::Path;
+use std::sync::Arc;
 
 use super::canvas::{Canvas, Painting};
 use super::slots::{self, Slot};
 use crate::error::{Error, Result};
-use crate::render::{GpuScene, LightUniforms, ReferenceStyle, Renderer};
+use crate::render::{GBuffer, GpuScene, LightUniforms, ReferenceStyle, Renderer};
 use crate::scene::Scene;
 
 /// Side of the standard painting.
@@ -35,6 +36,9 @@ pub struct PaintView {
     pub lines: Vec<bool>,
     /// The reference image (Lambert + Phong under the view's light; thesis 4.1), linear RGB.
     pub reference: Vec<[f32; 3]>,
+    /// The G-buffer the slots came from: what the full fit reads the painting against
+    /// ([`crate::read::Reader`] turns the light on it). Shared, never changed.
+    pub gbuffer: Arc<GBuffer>,
     pub canvas: Canvas,
 }
 
@@ -61,6 +65,7 @@ impl PaintView {
             hit,
             lines,
             reference: reference.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect(),
+            gbuffer: Arc::new(g),
             canvas: Canvas::new(width, height)?,
         })
     }

@@ -77,7 +77,7 @@ pub struct Term {
     pub map: LogMap,
     pub coefficients: Option<Coefficients>,
     /// The analytic lobe $B(l, v)$ the mapped product multiplies, when the fit used one
-    /// (`fit --base`; uniform materials only: material maps and live painting fit none).
+    /// (`fit --base`; uniform materials only: material maps and the live refit fit none).
     pub base: Option<Base>,
 }
 

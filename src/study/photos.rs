@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use super::{median, rendered_error};
 use crate::error::{Error, Result};
-use crate::factor::base::BaseChoice;
+use crate::read::lobe::BaseChoice;
 use crate::material::{Kind, Material};
 use crate::pipeline::{self, Options};
 use crate::sample::{Erosion, MapFrame, PhotoCamera, PhotoFolder, PhotoInput};

@@ -201,9 +201,10 @@ impl ApplicationHandler for App {
             return;
         }
         let mut next = self.repaint_at.lock().map(|g| *g).unwrap_or(None);
-        // Look at a watched file five times a second, and for a background prepare's result
-        // fifty times (without spinning: the prepare needs the CPU).
-        for (on, every) in [(r.studio.watching(), 200), (r.studio.preparing(), 20)] {
+        // Look at a watched file five times a second, for a background prepare's result
+        // fifty times (without spinning: the prepare needs the CPU), and for the full fit ten
+        // times: a quarter of the pause it follows, and frames left to the worker's CPU.
+        for (on, every) in [(r.studio.watching(), 200), (r.studio.preparing(), 20), (r.studio.settling(), 100)] {
             if on {
                 let t = now + Duration::from_millis(every);
                 next = Some(next.map_or(t, |n| n.min(t)));

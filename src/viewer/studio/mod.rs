@@ -235,6 +235,20 @@ impl Studio {
             Ok(false) => {}
             Err(e) => self.status.fail(e.to_string()),
         }
+        self.full_fit_tick();
+    }
+
+    /// Once the strokes pause, `brdfpaint fit`'s fit of the paintings (reading, base) runs on
+    /// a worker; when it lands the window shows it, and the state line its notes.
+    fn full_fit_tick(&mut self) {
+        match self.easel.session.poll_full(std::time::Instant::now()) {
+            Ok(true) => {
+                self.status.error = None;
+                self.live_changed();
+            }
+            Ok(false) => {}
+            Err(e) => self.status.fail(format!("full fit: {e} (showing the live fit)")),
+        }
     }
 
     /// Whether frames should keep coming without input.
@@ -251,6 +265,12 @@ impl Studio {
     /// background: its result needs a frame when it lands.
     pub fn preparing(&self) -> bool {
         self.easel.session.preparing() || self.sphere_waiting()
+    }
+
+    /// Whether the paintings wait for their full fit (the pause after the strokes, or the
+    /// fit on its worker): a frame is needed to start it and to show it when it lands.
+    pub fn settling(&self) -> bool {
+        self.easel.session.full_owed()
     }
 
     pub fn watching(&self) -> bool {
@@ -466,6 +486,10 @@ impl Studio {
             }
         } else if e.session.preparing() {
             format!("painted {}: preparing the new pixels...", painted.join(", "))
+        } else if let Some(full) = e.session.full_fit() {
+            // The notes as the viewer tells them: each line alone, no option named.
+            let notes = full.notes.iter().map(|n| format!("\n{n}")).collect::<String>();
+            format!("fitted {} as `fit` reads them{notes}", painted.join(", "))
         } else {
             let samples = self.meter.last.map_or(String::new(), |r| format!("{} samples from ", r.samples));
             format!("fitted {samples}{}", painted.join(", "))

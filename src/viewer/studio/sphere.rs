@@ -126,6 +126,8 @@ impl Studio {
         let view = sphere.view(renderer, sphere.light())?;
         let e = &mut self.easel;
         e.session = PaintSession::new(litsphere::settings(&self.fit.settings()), e.session.mapping());
+        // `fit` reads a lit sphere through its own path, not as a scene's painting.
+        e.session.set_full_fit(false);
         e.view_names.clear();
         e.watcher = None;
         e.scene_mode = true;
