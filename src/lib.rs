@@ -36,6 +36,7 @@ pub mod brdf;
 pub mod commit;
 pub mod demo;
 pub mod error;
+pub mod export;
 pub mod factor;
 pub mod fsio;
 pub mod gl;

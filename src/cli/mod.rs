@@ -4,6 +4,7 @@
 
 mod bench;
 mod demo;
+mod export;
 mod fit;
 mod photos;
 mod render;
@@ -46,6 +47,8 @@ enum Command {
     Demo(demo::DemoArgs),
     /// Fit a material to paintings of scenes, or to measured data.
     Fit(Box<fit::FitArgs>),
+    /// A material out into other tools: a glTF 2.0 binary with its closest PBR material.
+    Export(export::ExportArgs),
     /// Render a material on a scene, headless, to PNG or EXR (or a turntable / light sweep).
     Render(render::RenderArgs),
     /// Write the coloring-book sheet to paint on: outline.png, reference.png, mask.png, scene.gltf.
@@ -102,6 +105,7 @@ pub fn run() -> ExitCode {
     let result = match cli.command {
         Command::Demo(args) => demo::run(args).map_err(Failure::from),
         Command::Fit(args) => fit::run(*args),
+        Command::Export(args) => export::run(args).map_err(Failure::from),
         Command::Render(args) => render::run(args),
         Command::Sheet(args) => sheet::run(args).map_err(Failure::from),
         Command::Bench { json, quick } => bench::run(json, quick).map_err(Failure::from),

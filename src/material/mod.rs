@@ -12,6 +12,7 @@
 
 pub mod based;
 pub mod map;
+pub mod packed;
 mod store;
 
 use serde::{Deserialize, Serialize};

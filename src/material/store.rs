@@ -135,8 +135,12 @@ impl Material {
         crate::commit::write_atomic(&dir.join("material.json"), json.as_bytes())
     }
 
-    /// Load a material directory (or its material.json).
+    /// Load a material directory (or its material.json, or a .glb that carries one:
+    /// [`super::packed`]).
     pub fn load(path: &Path) -> Result<Material> {
+        if super::packed::is_glb(path) {
+            return super::packed::load_glb(path);
+        }
         let (dir, json_path) = if path.is_dir() {
             (path.to_path_buf(), path.join("material.json"))
         } else {

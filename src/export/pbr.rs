@@ -1,0 +1,94 @@
+//! The glTF 2.0 metallic-roughness material (glTF 2.0 specification, Appendix B) as a
+//! [`Reflectance`], in brdfpaint's units.
+//!
+//! **Units.** A brdfpaint material is the shading $S$ a pixel shows under a unit white light
+//! (DESIGN.md), and a painter's white Lambertian sphere at full light is base colour 1
+//! (`README`, "Lit spheres"): $S = c\cos\theta_l$ for a diffuse material of base colour $c$.
+//! glTF's diffuse BRDF is $c/\pi$, so brdfpaint's unit light is a glTF light of irradiance
+//! $\pi$ and
+//! $$ S(l, v) = \pi\, f_{\mathrm{glTF}}(l, v)\, \cos\theta_l . $$
+//!
+//! **The BRDF** (Appendix B, separable Smith masking as the specification writes it), with
+//! $\alpha = r^2$, $x = (1 - |\mathbf v\cdot\mathbf h|)^5$, $F_d = 0.04 + 0.96\,x$:
+//! $$ f = (1 - m)\Big[(1 - F_d)\frac{c}{\pi} + F_d\, V D\Big] + m\,\big(c + (1 - c)\,x\big)\, V D $$
+//! with GGX's $D$ and $V = G_1(l) G_1(v) / (4\cos\theta_l\cos\theta_v)$
+//! ([`crate::brdf::lobe::specular_shape`] is $\cos\theta_l V D$ and $x$).
+
+use std::f64::consts::PI;
+
+use crate::brdf::lobe::specular_shape;
+use crate::brdf::Reflectance;
+use crate::factor::Query;
+
+/// Schlick's $F_0$ of a glTF dielectric (index of refraction 1.5): $((1.5 - 1)/(1.5 + 1))^2$.
+pub const DIELECTRIC_F0: f64 = 0.04;
+
+/// The smallest roughness a fit gives: $\alpha = 0.03^2$ is narrower than any table node
+/// resolves, and renderers clamp lower values anyway.
+pub const MIN_ROUGHNESS: f64 = 0.03;
+
+/// A glTF metallic-roughness material (core glTF 2.0, no extensions).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pbr {
+    /// `baseColorFactor`'s RGB, linear, in [0, 1].
+    pub base_color: [f64; 3],
+    /// `metallicFactor`, in [0, 1].
+    pub metallic: f64,
+    /// `roughnessFactor`, in [[`MIN_ROUGHNESS`], 1].
+    pub roughness: f64,
+}
+
+/// What the shading of a [`Pbr`] is made of at one query, per channel: $S = a + b\,c$ for
+/// base colour $c$ at fixed metallic and roughness (the BRDF is linear in $c$).
+pub fn affine_in_base_color(metallic: f64, roughness: f64, q: &Query) -> (f64, f64) {
+    let cl = q.l.z;
+    if cl <= 0.0 || q.v.z <= 0.0 {
+        return (0.0, 0.0);
+    }
+    let alpha = roughness * roughness;
+    // $s = \cos\theta_l V D$, and Schlick's $x$.
+    let (s, x) = specular_shape(q.l, q.v, alpha);
+    let fd = DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * x;
+    // Dielectric: $\pi\cos\theta_l[(1 - F_d) c/\pi + F_d V D]$.
+    let (a_d, b_d) = (PI * fd * s, (1.0 - fd) * cl);
+    // Metal: $\pi\cos\theta_l V D (c + (1 - c) x)$.
+    let (a_m, b_m) = (PI * s * x, PI * s * (1.0 - x));
+    ((1.0 - metallic) * a_d + metallic * a_m, (1.0 - metallic) * b_d + metallic * b_m)
+}
+
+impl Reflectance for Pbr {
+    /// $S = \pi f \cos\theta_l$ (module documentation).
+    fn shading(&self, q: &Query) -> [f64; 3] {
+        let (a, b) = affine_in_base_color(self.metallic, self.roughness, q);
+        self.base_color.map(|c| a + b * c)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    #[test]
+    fn white_dielectric_rough_is_near_lambert_in_painter_units() {
+        // Head-on light and view: S = (1 - F0) c + π F0 D V for α = 1, where D = 1/π and
+        // V = 1/4 (G1 = 1 at normal incidence): 0.96 c + 0.04/4.
+        let pbr = Pbr { base_color: [1.0, 0.5, 0.0], metallic: 0.0, roughness: 1.0 };
+        let s = pbr.shading(&Query::at(DVec3::Z, DVec3::Z));
+        for (c, &base) in [1.0, 0.5, 0.0].iter().enumerate() {
+            let expected = 0.96 * base + 0.04 / 4.0;
+            assert!((s[c] - expected).abs() < 1e-9, "channel {c}: {} vs {expected}", s[c]);
+        }
+    }
+
+    #[test]
+    fn metal_has_no_diffuse_and_below_horizon_is_dark() {
+        let pbr = Pbr { base_color: [0.9, 0.6, 0.3], metallic: 1.0, roughness: 0.4 };
+        // Off the mirror direction by a wide angle, a narrow metal lobe is nearly black.
+        let l = DVec3::new(0.8, 0.0, 0.6).normalize();
+        let v = DVec3::new(0.8, 0.0, 0.6).normalize();
+        let s = pbr.shading(&Query::at(l, v));
+        assert!(s[0] < 0.05, "{s:?}");
+        assert_eq!(pbr.shading(&Query::at(DVec3::new(0.0, 0.6, -0.8), DVec3::Z)), [0.0; 3]);
+    }
+}

@@ -1,0 +1,195 @@
+//! `brdfpaint export`: a lit sphere painted with a known glTF material comes back out as
+//! that material; the .glb passes the Khronos validator and carries the exact material.
+
+mod cli_common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use brdfpaint::brdf::{Analytic, Reflectance, SphereView};
+use brdfpaint::images::Painting;
+use brdfpaint::material::packed::split_glb;
+use brdfpaint::material::Material;
+use cli_common::brdfpaint;
+use glam::DVec3;
+
+/// The target's material: glTF base colour, roughness, F0 of a dielectric (issue 38).
+const BASE: [f64; 3] = [0.8, 0.25, 0.1];
+const ROUGHNESS: f64 = 0.5;
+const F0: f64 = 0.04;
+/// The picture's light, towards it, picture frame (x right, y up, z to the viewer).
+const LIGHT: [f64; 3] = [-0.4, 0.5, 0.77];
+
+/// A GGX sphere in the painter's convention: pixel = base colour × cos θ_l for the diffuse
+/// part, i.e. π × the BRDF × cos θ_l ([`Analytic::Ggx`]'s diffuse is ρ/π; glTF's α =
+/// roughness² as here). The disk inscribed in the square, on a transparent background.
+fn ggx_lit_sphere(res: usize) -> Painting {
+    let model = Analytic::Ggx { diffuse: BASE, f0: [F0; 3], roughness: ROUGHNESS };
+    let mut p = Painting::opaque(res, res, vec![[0.0; 3]; res * res]).unwrap();
+    p.alpha = vec![0.0; res * res];
+    let light = DVec3::from_array(LIGHT).normalize();
+    for j in 0..res {
+        for i in 0..res {
+            let (x, y) = (2.0 * (i as f64 + 0.5) / res as f64 - 1.0, 1.0 - 2.0 * (j as f64 + 0.5) / res as f64);
+            let rr = x * x + y * y;
+            if rr >= 1.0 {
+                continue;
+            }
+            let q = SphereView::query(DVec3::new(x, y, (1.0 - rr).sqrt()), light, DVec3::Z);
+            p.pixels[j * res + i] = model.shading(&q).map(|x| (std::f64::consts::PI * x) as f32);
+            p.alpha[j * res + i] = 1.0;
+        }
+    }
+    p
+}
+
+/// The Khronos validator's report on `file`, or `None` (with a message) when node or the
+/// validator is not installed (tools/setup.sh installs both).
+fn validate(file: &Path) -> Option<serde_json::Value> {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/gltf-validator/validate.js");
+    let installed = Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/gltf-validator/node_modules/gltf-validator");
+    let node_ok = Command::new("node").arg("--version").output().is_ok_and(|o| o.status.success());
+    if !node_ok || !installed.is_dir() {
+        eprintln!("SKIPPED the glTF validator: node or tools/gltf-validator/node_modules missing (run tools/setup.sh)");
+        return None;
+    }
+    let out = Command::new("node").arg(&script).arg(file).output().unwrap();
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("validator output is not JSON ({e}): {}", String::from_utf8_lossy(&out.stderr)));
+    Some(report)
+}
+
+fn assert_valid(file: &Path) {
+    if let Some(report) = validate(file) {
+        let errors = report["issues"]["numErrors"].as_u64().unwrap();
+        assert_eq!(errors, 0, "{}: {:#}", file.display(), report["issues"]);
+    }
+}
+
+/// The PBR material of an exported .glb: base colour, metallic, roughness.
+fn pbr_of(file: &Path) -> ([f64; 3], f64, f64) {
+    let bytes = std::fs::read(file).unwrap();
+    let (json, _) = split_glb(&bytes).unwrap();
+    let p = &json["materials"][0]["pbrMetallicRoughness"];
+    let c: Vec<f64> = p["baseColorFactor"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    (
+        [c[0], c[1], c[2]],
+        p["metallicFactor"].as_f64().unwrap(),
+        p["roughnessFactor"].as_f64().unwrap(),
+    )
+}
+
+/// A fit of the target sphere: (directory, material).
+fn fitted_sphere(dir: &Path) -> (PathBuf, PathBuf) {
+    let png = dir.join("ggx.png");
+    std::fs::write(&png, ggx_lit_sphere(256).encode_png16().unwrap()).unwrap();
+    let mat = dir.join("mat");
+    let light = format!("{},{},{}", LIGHT[0], LIGHT[1], LIGHT[2]);
+    let run = brdfpaint(dir, &["fit", "--lit-sphere", png.to_str().unwrap(), "--light", &light, "--out", mat.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    (png, mat)
+}
+
+#[test]
+fn a_painted_ggx_sphere_exports_its_gltf_material() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, mat) = fitted_sphere(dir.path());
+    let glb = dir.path().join("ggx.glb");
+    let run = brdfpaint(dir.path(), &["export", mat.to_str().unwrap(), "--gltf", glb.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    eprintln!("{}", run.stdout);
+    let (base, metallic, roughness) = pbr_of(&glb);
+    for c in 0..3 {
+        assert!((base[c] - BASE[c]).abs() <= 0.1 * BASE[c], "base colour {base:?} vs {BASE:?}\n{}", run.stdout);
+    }
+    assert!((roughness - ROUGHNESS).abs() <= 0.1, "roughness {roughness}\n{}", run.stdout);
+    assert!(metallic <= 0.2, "metallic {metallic}\n{}", run.stdout);
+    assert!(run.stdout.contains("over the ") && run.stdout.contains("over all directions"), "{}", run.stdout);
+    assert_valid(&glb);
+
+    // The exact material travels in the file: loaded back, it is the fitted one.
+    let exact = Material::load(&mat).unwrap();
+    let packed = Material::load(&glb).unwrap();
+    assert_eq!(exact.terms, packed.terms);
+}
+
+#[test]
+fn export_onto_a_model_file_renders_its_exact_material() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, mat) = fitted_sphere(dir.path());
+    let glb = dir.path().join("bunny.glb");
+    let run = brdfpaint(dir.path(), &["export", mat.to_str().unwrap(), "--gltf", glb.to_str().unwrap(), "--model", "bunny"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_valid(&glb);
+    // The .glb is both the material and the model of `render`, and draws as the directory does.
+    let (a, b) = (dir.path().join("a.exr"), dir.path().join("b.exr"));
+    let g = glb.to_str().unwrap();
+    let run = brdfpaint(dir.path(), &["render", g, "--model", g, "--size", "96x96", "--out", a.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let run = brdfpaint(dir.path(), &["render", mat.to_str().unwrap(), "--model", g, "--size", "96x96", "--out", b.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let (a, b) = (image::open(&a).unwrap().into_rgb32f(), image::open(&b).unwrap().into_rgb32f());
+    assert_eq!(a.as_raw(), b.as_raw());
+    assert!(a.as_raw().iter().any(|&x| x > 0.05), "the render is black");
+}
+
+#[test]
+fn export_refuses_bad_input_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    let missing = brdfpaint(dir.path(), &["export", &format!("{d}/nothing"), "--gltf", &format!("{d}/o.glb")]);
+    let (_, mat) = fitted_sphere(dir.path());
+    let m = mat.to_str().unwrap();
+    let wrong_ext = brdfpaint(dir.path(), &["export", m, "--gltf", &format!("{d}/o.gltf")]);
+    let no_dir = brdfpaint(dir.path(), &["export", m, "--gltf", &format!("{d}/no/such/dir/o.glb")]);
+    let bad_model = brdfpaint(dir.path(), &["export", m, "--gltf", &format!("{d}/o.glb"), "--model", "nonesuch"]);
+    for run in [missing, wrong_ext, no_dir, bad_model] {
+        assert_eq!(run.code, 1, "{}", run.stderr);
+        assert_eq!(run.stderr.trim().lines().count(), 1, "{}", run.stderr);
+        assert!(run.stderr.starts_with("error: ") && !run.stderr.contains("panicked"), "{}", run.stderr);
+    }
+    assert!(!dir.path().join("o.glb").exists());
+}
+
+#[test]
+fn a_matcap_of_a_lit_sphere_fit_gives_its_picture_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, mat) = fitted_sphere(dir.path());
+    let exr = dir.path().join("m.exr");
+    // No --light: the picture's own light, from the scene beside the material.
+    let run = brdfpaint(dir.path(), &["export", mat.to_str().unwrap(), "--matcap", exr.to_str().unwrap(), "--size", "256"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stdout.contains("the picture's light"), "{}", run.stdout);
+    let got = image::open(&exr).unwrap().into_rgba32f();
+    let want = ggx_lit_sphere(256);
+    let (mut se, mut sv, mut n) = (0.0f64, 0.0f64, 0);
+    for j in 0..256usize {
+        for i in 0..256usize {
+            // Inside the disk, two pixels in from the silhouette (the fit leaves out one).
+            let (x, y) = ((i as f64 + 0.5) / 128.0 - 1.0, 1.0 - (j as f64 + 0.5) / 128.0);
+            if (x * x + y * y).sqrt() > 1.0 - 2.0 / 128.0 {
+                continue;
+            }
+            let g = got.get_pixel(i as u32, j as u32);
+            let w = want.pixels[j * 256 + i];
+            for c in 0..3 {
+                se += (g[c] as f64 - w[c] as f64).powi(2);
+                sv += (w[c] as f64).powi(2);
+            }
+            n += 1;
+        }
+    }
+    let matcap = (se / sv).sqrt();
+    let fit = Material::load(&mat).unwrap().provenance.errors.unwrap().rms_relative;
+    eprintln!("{n} pixels: MatCap against the picture {matcap:.4}, the fit's own {fit:.4}");
+    assert!(n > 45_000);
+    // Measured 0.0058 against the fit's own 0.0027 on its samples (read and eroded as the fit
+    // reads them): within a few times the fit's error, not within it.
+    assert!(matcap <= 2.5 * fit + 1e-3, "MatCap {matcap:.4} vs the fit's {fit:.4}");
+    let png = dir.path().join("m.png");
+    let run = brdfpaint(dir.path(), &["export", mat.to_str().unwrap(), "--matcap", png.to_str().unwrap(), "--light", "0.5,0.2,1", "--size", "64"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let relit = image::open(&png).unwrap().into_rgba8();
+    assert_eq!((relit.width(), relit.height()), (64, 64));
+    assert_eq!(relit.get_pixel(0, 0)[3], 0, "off the disk is transparent");
+}
