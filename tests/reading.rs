@@ -104,12 +104,12 @@ fn registered_paintings_generalize_to_held_out_views() {
     let as_given = held_out_median(&f, Reading { smooth_tones: false, register_light: false, repaint_strays: false });
     let read = held_out_median(&f, Reading::default());
     eprintln!("light 10° off: as given {as_given:.5}, registered {read:.5}");
-    // README: "A painting shaded 10° off: held-out error 0.116 → 0.0014" (this study, the
+    // README: "A painting shaded 10° off: held-out error 0.116 → 0.0015" (this study, the
     // nine models' median, 128²). The fits are deterministic: held at those values within
     // half their last digit plus 2%.
     let agrees = |measured: f64, stated: f64, digit: f64| (measured - stated).abs() <= digit / 2.0 + 0.02 * stated;
     assert!(agrees(as_given, 0.116, 1e-3), "as given {as_given:.5}, README 0.116");
-    assert!(agrees(read, 0.0014, 1e-4), "registered {read:.5}, README 0.0014");
+    assert!(agrees(read, 0.0015, 1e-4), "registered {read:.5}, README 0.0015");
 }
 
 /// Flat tones painted under a light 10° off the scene's: the light is registered on the
