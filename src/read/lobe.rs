@@ -162,25 +162,19 @@ pub fn choose(pattern: &Pattern, values: &[[f64; 3]], blocks: &Blocks, choice: B
             }
             candidates.push((None, Some(judge.product())));
             let scores = judge.scores(&candidates);
-            let scored: Vec<(Option<Chosen>, Score)> = candidates.iter().map(|c| c.0).zip(scores).collect();
+            let scored: Vec<(Option<Chosen>, f64)> = candidates.iter().map(|c| c.0).zip(scores).collect();
             Ok(best_predictor(&scored))
         }
     }
 }
 
-/// A candidate's held-out misfit ([`misfit`]), pooled over the folds.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Score {
-    pooled: f64,
-}
-
 /// The candidate that predicts the held-out paint best; of candidates that tie, the
 /// simplest.
-fn best_predictor<T: Copy>(candidates: &[(T, Score)]) -> T {
-    let best = candidates.iter().map(|c| c.1.pooled).fold(f64::INFINITY, f64::min);
+fn best_predictor<T: Copy>(candidates: &[(T, f64)]) -> T {
+    let best = candidates.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
     // Misfits closer than a tenth of a 16-bit code (1.5e-5 of white) differ by rounding
     // alone: clean paintings.
-    candidates.iter().find(|c| c.1.pooled <= best + 1e-6).map_or(candidates[0].0, |c| c.0)
+    candidates.iter().find(|c| c.1 <= best + 1e-6).map_or(candidates[0].0, |c| c.0)
 }
 
 /// The cross-validation of [`choose`] on every k-th sample ([`JUDGED_SAMPLES`]).
@@ -246,11 +240,10 @@ impl Judge {
         Some(predicted)
     }
 
-    /// Each candidate's held-out [`Score`]; a candidate without predictions scores
-    /// infinity.
-    fn scores(&self, candidates: &[(Option<Chosen>, Option<Vec<[f64; 3]>>)]) -> Vec<Score> {
-        let score = |predicted: &Vec<[f64; 3]>| Score { pooled: misfit(&self.values, predicted) };
-        candidates.iter().map(|c| c.1.as_ref().map_or(Score { pooled: f64::INFINITY }, score)).collect()
+    /// Each candidate's held-out misfit ([`misfit`]), pooled over the folds; a candidate
+    /// without predictions scores infinity.
+    fn scores(&self, candidates: &[(Option<Chosen>, Option<Vec<[f64; 3]>>)]) -> Vec<f64> {
+        candidates.iter().map(|c| c.1.as_ref().map_or(f64::INFINITY, |p| misfit(&self.values, p))).collect()
     }
 
     /// Every sample's log value as predicted by the product fitted to `logs` without the

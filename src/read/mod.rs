@@ -1,5 +1,5 @@
 //! Reading paintings as evidence of a material: what the painter meant, told from what the
-//! brush did (issue 11). The one home of "painting(s) → evidence", between sampling
+//! brush did (issue 11). The one home of reading painting(s) as evidence, between sampling
 //! ([`crate::sample`]) and the fit ([`crate::pipeline::fit`]).
 //!
 //! A [`Reader`] estimates, in this order:
