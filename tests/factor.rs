@@ -241,7 +241,8 @@ fn pseudo_inverse_variants_without_filtering_equal_cholesky() {
     // damping, gamma = 0) is the least-squares solution, which Cholesky also computes.
     let pattern = brdfpaint::brdf::SphereView::new(DVec3::new(0.3, 0.4, 1.0), 30).pattern();
     // Well conditioned, so that the eigendecomposition route loses no digits that matter.
-    let mut base = Settings::uniform(1, 24);
+    // The thesis's channels: the change-of-basis form is that of one system.
+    let mut base = Settings::uniform(1, 24).luminance();
     for f in &mut base.factors {
         f.smooth = 1e-2;
     }
