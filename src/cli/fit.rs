@@ -14,7 +14,7 @@ use brdfpaint::brdf::Merl;
 use brdfpaint::error::{Error, Result};
 use brdfpaint::factor::cache::{Cache, Outcome};
 use brdfpaint::read::lobe::BaseChoice;
-use brdfpaint::factor::{prepare, DifferenceChoice, Fit, Mapping, Pattern, Settings};
+use brdfpaint::factor::{prepare, Channels, DifferenceChoice, Fit, Mapping, Pattern, Settings};
 use brdfpaint::litsphere;
 use brdfpaint::read::lobe;
 use brdfpaint::note::{Note, Remedy};
@@ -131,6 +131,11 @@ pub(super) struct FitArgs {
     /// Log mapping: auto, identity, offset[:A], inverted[:A].
     #[arg(long, default_value = "auto")]
     mapping: Mapping,
+    /// Colour channels: coupled (the shading's shape fitted on luminance, its colour as a
+    /// smoother quantity that keeps the painting's colours where the paintings leave it
+    /// open) or independent (each channel on its own, as in the thesis).
+    #[arg(long, value_name = "HOW", default_value = "coupled")]
+    channels: Channels,
     /// An analytic base under the product of a uniform fit (the product is fitted to
     /// S / B): auto (the lobe of the classic family, GGX, Blinn-Phong, Phong, Ward,
     /// Ashikhmin-Shirley, Oren-Nayar or Minnaert, that fits the paintings as closely as their
@@ -196,6 +201,7 @@ fn options(args: &FitArgs) -> Result<Options> {
     let mut opts = Options::new(args.kind.kind(), args.factors.dim(), args.res, args.lambda, args.uv_res)?;
     opts.difference = args.theta_d;
     opts.mapping = args.mapping;
+    opts.settings.channels = args.channels;
     opts.map.terms = args.terms.unwrap_or(opts.map.terms);
     opts.map.method = match args.map_fit {
         Some(MapFitArg::Greedy) => map::Method::Greedy,

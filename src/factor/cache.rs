@@ -24,7 +24,7 @@ use faer::Mat;
 
 use super::prepared::{factor, Prepared, Solver, Spectral};
 use super::system::{Design, SymCsc};
-use super::{Input, Pattern, Settings};
+use super::{Channels, Input, Pattern, Settings};
 use crate::error::{Error, Result};
 use crate::util::Fnv;
 use sha2::{Digest, Sha256};
@@ -77,6 +77,13 @@ impl Cache {
 
     /// Load the prepared system for a pattern and settings, or prepare and store it.
     pub fn prepare(&self, pattern: &Pattern, settings: &Settings) -> Result<(Prepared, Outcome)> {
+        if settings.channels == Channels::Coupled {
+            // Two systems, each its own file: the luminance's is the independent fit's.
+            let (luminance, first) = self.prepare(pattern, &settings.luminance())?;
+            let (chroma, second) = self.prepare(pattern, &settings.chroma())?;
+            let outcome = if first == Outcome::Hit { second } else { first };
+            return Ok((Prepared::couple(settings, luminance, chroma), outcome));
+        }
         if settings.factors.iter().any(|f| matches!(f.input, Input::Custom(_))) {
             let p = super::prepare(pattern, settings)?;
             return Ok((p, Outcome::Uncached("custom projections are not cacheable".into())));
@@ -329,7 +336,7 @@ mod tests {
     fn crafted_files_with_valid_checksums_and_nans_are_rebuilt() {
         let dir = tempfile::tempdir().unwrap();
         let cache = Cache::new(dir.path());
-        let settings = Settings::default();
+        let settings = Settings::default().luminance();
         let pattern = SphereView::new(DVec3::new(-0.5, 0.5, 1.0), 40).pattern();
         assert_eq!(cache.prepare(&pattern, &settings).unwrap().1, Outcome::Miss);
         let path = cache.path(&pattern, &settings);
@@ -378,7 +385,7 @@ mod tests {
     fn entries_that_are_not_regular_files_or_too_large_are_rebuilt() {
         let dir = tempfile::tempdir().unwrap();
         let cache = Cache::new(dir.path());
-        let settings = Settings::default();
+        let settings = Settings::default().luminance();
         let pattern = SphereView::new(DVec3::new(-0.5, 0.5, 1.0), 40).pattern();
         let path = cache.path(&pattern, &settings);
         let fifo = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
@@ -401,7 +408,7 @@ mod tests {
 
     #[test]
     fn dense_systems_round_trip_and_corruption_is_rebuilt() {
-        case(&Settings::default());
+        case(&Settings::default().luminance());
     }
 
     /// The solver a settings choose on the standard test pattern.
@@ -412,20 +419,20 @@ mod tests {
 
     #[test]
     fn sparse_systems_round_trip_and_corruption_is_rebuilt() {
-        let s = Settings::uniform(2, 32);
+        let s = Settings::uniform(2, 32).luminance();
         assert_eq!(kind(&s), "sparse", "this case must exercise the sparse path");
         case(&s);
     }
 
     #[test]
     fn block_systems_round_trip_and_corruption_is_rebuilt() {
-        let s = Settings::four_factor(1, 32, 48);
+        let s = Settings::four_factor(1, 32, 48).luminance();
         assert_eq!(kind(&s), "block", "this case must exercise the block path");
         case(&s);
     }
 
     #[test]
     fn spectral_systems_round_trip() {
-        case(&Settings { method: Method::DampedSvd { alpha: 1e-3 }, ..Settings::uniform(1, 24) });
+        case(&Settings { method: Method::DampedSvd { alpha: 1e-3 }, ..Settings::uniform(1, 24).luminance() });
     }
 }

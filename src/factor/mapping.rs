@@ -179,6 +179,27 @@ impl Mapping {
     }
 }
 
+impl Mapping {
+    /// [`Mapping::candidates`] with every constant along one colour, `tint` (largest
+    /// channel 1): the identity floor and the offset at their defaults times the largest
+    /// value over the channels, the inverted constant its default times the least scale that
+    /// keeps it above every channel's largest value. A constant the user gave is grey.
+    pub fn candidates_tinted(&self, max: [f64; 3], tint: [f64; 3]) -> Result<Vec<LogMap>> {
+        let top = max.iter().cloned().fold(0.0, f64::max).max(1e-12);
+        let reach = (0..3).map(|c| max[c] / tint[c]).fold(top, f64::max);
+        let identity = LogMap::Identity { floor: tint.map(|t| IDENTITY_FLOOR * top * t) };
+        let offset = LogMap::Offset { a: tint.map(|t| OFFSET_DEFAULT * top * t) };
+        let inverted = LogMap::Inverted { a: tint.map(|t| INVERTED_DEFAULT * reach * t) };
+        Ok(match self {
+            Mapping::Auto => vec![identity, offset, inverted],
+            Mapping::Identity => vec![identity],
+            Mapping::Offset(None) => vec![offset],
+            Mapping::Inverted(None) => vec![inverted],
+            Mapping::Offset(Some(_)) | Mapping::Inverted(Some(_)) => self.candidates(max)?,
+        })
+    }
+}
+
 /// [`fast_ln`] over a slice, in place: with AVX2 and FMA where the CPU has them (four lanes
 /// instead of SSE2's two; the log is most of a refit's time), else portable code.
 pub fn ln_all(x: &mut [f64]) {

@@ -15,9 +15,11 @@
 //!   paint levels, a light prior, bounded tables) on the same prepared system.
 //! - [`base`]: an analytic lobe under the product; the product is fitted to $S / B$.
 //! - [`cache`]: prepared systems saved to disk, keyed by pattern and settings.
+//! - [`chroma`]: the colour channels fitted together: luminance and a smoother chroma.
 
 pub mod bound;
 pub mod cache;
+pub mod chroma;
 pub mod mapping;
 pub mod param;
 mod pattern;
@@ -34,5 +36,6 @@ pub use param::{Domain, Param};
 pub use pattern::{headlit, Grid, Pattern, Query, Sample, HEADLIT_DEG};
 pub use prepared::{errors, prepare, Errors, Fit, Prepared, Spectral, INVERTED_MARGIN};
 pub use bound::BOUND;
+pub use chroma::Channels;
 pub use robust::Robust;
 pub use settings::{defaults, difference_range, CustomInput, DifferenceChoice, DIFFERENCE_REACH_DEG, FactorSpec, Input, Method, Settings, MAX_RES_1D, MAX_RES_2D, MAX_UNKNOWNS, MAX_WARP};

@@ -18,7 +18,8 @@ use std::time::Instant;
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{Accum, Mat, Par, Side};
 
-use super::mapping::{LogMap, Mapping};
+use super::chroma::{self, Channels, Coupled};
+use super::mapping::{LogMap, Mapping, IDENTITY_FLOOR};
 use super::pattern::{Pattern, Query};
 use super::settings::{Method, Settings};
 use super::schur::{self, Schur};
@@ -38,6 +39,8 @@ pub struct Prepared {
     solver: Solver,
     /// Seconds spent assembling G and factoring it.
     pub prepare_s: f64,
+    /// The chroma's system, when the channels are coupled ([`super::chroma`]).
+    coupled: Option<Coupled>,
 }
 
 impl std::fmt::Debug for Prepared {
@@ -286,8 +289,17 @@ impl Prepared {
         b
     }
 
-    /// Log-space tables $\tilde{\mathbf y}$ (n × 3) for a right-hand side.
+    /// Log-space tables $\tilde{\mathbf y}$ (n × 3) for a right-hand side: the channels
+    /// coupled ([`super::chroma`]) or each on its own.
     pub fn apply(&self, b: &Mat<f64>) -> Mat<f64> {
+        match &self.coupled {
+            Some(c) => c.apply(self, b),
+            None => self.solve_system(b),
+        }
+    }
+
+    /// $\mathbf G^{-1}\mathbf b$ on this system's own factorization, each column alone.
+    pub(crate) fn solve_system(&self, b: &Mat<f64>) -> Mat<f64> {
         let y = match &self.solver {
             Solver::Dense(inv) => {
                 let mut y = Mat::zeros(self.design.n, 3);
@@ -435,7 +447,7 @@ impl Prepared {
         // clamp flips hues; for a small gain on the samples that is a worse material
         // everywhere else.
         let score = |m: &LogMap, e: &Errors| if matches!(m, LogMap::Inverted { .. }) { e.rms / (1.0 - INVERTED_MARGIN) } else { e.rms };
-        for map in mapping.candidates(max)? {
+        for map in self.candidates(mapping, values, max)? {
             let mut y = self.apply(&self.rhs_with(values, &map, prior));
             self.bound(&mut y, &map, max);
             let tables = self.split(&y);
@@ -491,12 +503,34 @@ impl Prepared {
         errors(&self.predict(tables, map), values)
     }
 
+    /// The concrete mappings `mapping` tries for `values` (per-channel largest `max`):
+    /// under coupled channels their constants are one colour, the painting's mean
+    /// ([`super::chroma`]), so the constant applied after the product keeps the hue.
+    pub fn candidates(&self, mapping: Mapping, values: &[[f64; 3]], max: [f64; 3]) -> Result<Vec<LogMap>> {
+        match self.coupled {
+            Some(_) => mapping.candidates_tinted(max, chroma::tint(values, IDENTITY_FLOOR)),
+            None => mapping.candidates(max),
+        }
+    }
+
+    /// How this system fits the colour channels.
+    pub fn channels(&self) -> Channels {
+        self.settings.channels
+    }
+
     pub(crate) fn parts(&self) -> (&Settings, &Design, &Solver) {
         (&self.settings, &self.design, &self.solver)
     }
 
     pub(crate) fn from_parts(settings: Settings, design: Design, solver: Solver, prepare_s: f64) -> Prepared {
-        Prepared { settings, design, solver, prepare_s }
+        Prepared { settings, design, solver, prepare_s, coupled: None }
+    }
+
+    /// The coupled system of `settings` from the luminance's and the chroma's
+    /// ([`Settings::luminance`], [`Settings::chroma`]), prepared on the same pattern.
+    pub(crate) fn couple(settings: &Settings, luminance: Prepared, chroma: Prepared) -> Prepared {
+        let prepare_s = luminance.prepare_s + chroma.prepare_s;
+        Prepared { settings: settings.clone(), coupled: Some(Coupled::new(chroma)), prepare_s, ..luminance }
     }
 }
 
@@ -517,6 +551,11 @@ pub fn errors(predicted: &[[f64; 3]], values: &[[f64; 3]]) -> Errors {
 
 /// Build and factor the system for a pattern. Depends only on where the samples are.
 pub fn prepare(pattern: &Pattern, settings: &Settings) -> Result<Prepared> {
+    if settings.channels == Channels::Coupled {
+        let luminance = prepare(pattern, &settings.luminance())?;
+        let chroma = prepare(pattern, &settings.chroma())?;
+        return Ok(Prepared::couple(settings, luminance, chroma));
+    }
     let start = Instant::now();
     let design = Design::new(pattern, settings)?;
     let bar = progress_bar(&design);
@@ -529,7 +568,7 @@ pub fn prepare(pattern: &Pattern, settings: &Settings) -> Result<Prepared> {
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    Ok(Prepared { settings: settings.clone(), design, solver: solver?, prepare_s: start.elapsed().as_secs_f64() })
+    Ok(Prepared { settings: settings.clone(), design, solver: solver?, prepare_s: start.elapsed().as_secs_f64(), coupled: None })
 }
 
 /// Unknowns from which a prepare takes long enough (a second or more) to deserve a bar.

@@ -123,7 +123,7 @@ impl Prepared {
         let levels = Levels::detect(values, robust.max_levels);
         let mut tried = Vec::new();
         let mut scored: Vec<(f64, Fit)> = Vec::new();
-        for map in mapping.candidates(max)? {
+        for map in self.candidates(mapping, values, max)? {
             let y = self.robust_log(values, &map, max, levels.as_ref(), robust);
             let tables = self.split(&y);
             let predicted = self.predict(&tables, &map);

@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+use super::chroma::Channels;
 use super::param::{Domain, Param};
 use super::pattern::Query;
 use crate::error::{Error, Result};
@@ -189,6 +190,10 @@ pub struct Settings {
     /// `None`, the default: off. Lit spheres turn it on ([`crate::litsphere::settings`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub light_prior: Option<f64>,
+    /// How the colour channels are fitted ([`Channels`]): coupled by default; settings
+    /// stored before there was a choice were fitted independently, as the thesis does.
+    #[serde(default = "Channels::thesis")]
+    pub channels: Channels,
 }
 
 /// Defaults, chosen by measuring relative RMS on held-out lights and views (not on the
@@ -303,6 +308,7 @@ impl Settings {
             ],
             method: Method::Cholesky,
             light_prior: None,
+            channels: Channels::default(),
         }
     }
 

@@ -390,16 +390,16 @@ impl PaintSession {
     /// value stays below its constant with the default headroom: paint brighter than that
     /// would sit next to the singularity of $\log(a - f)$ and swing the whole fit, so those
     /// refits use the offset mapping until the full solve at the stroke's end chooses again.
-    fn live_map(&self, max: [f64; 3]) -> Result<LogMap> {
+    fn live_map(&self, prepared: &factor::Prepared, values: &[[f64; 3]], max: [f64; 3]) -> Result<LogMap> {
         if self.mapping != Mapping::Auto {
-            return Ok(self.mapping.candidates(max)?[0]);
+            return Ok(prepared.candidates(self.mapping, values, max)?[0]);
         }
         match self.chosen {
             Some(LogMap::Inverted { a }) if (0..3).all(|c| max[c] * crate::factor::mapping::INVERTED_DEFAULT <= a[c]) => {
                 Ok(LogMap::Inverted { a })
             }
             Some(m @ (LogMap::Identity { .. } | LogMap::Offset { .. })) => Ok(m),
-            _ => Ok(Mapping::Offset(None).candidates(max)?[0]),
+            _ => Ok(prepared.candidates(Mapping::Offset(None), values, max)?[0]),
         }
     }
 
@@ -447,7 +447,7 @@ impl PaintSession {
             }
         }
         let t1 = Instant::now();
-        let map = self.live_map(max)?;
+        let map = self.live_map(&system.prepared, &values, max)?;
         let tables = system.prepared.solve_tables(&values, &map)?;
         let fit = Fit { tables, map, errors: Errors::default(), tried: Vec::new() };
         let views: Vec<&PaintView> = self.views.iter().collect();

@@ -164,7 +164,9 @@ fn explained(samples: &Samples, settings: &Settings) -> Result<f64> {
     let stride = samples.len().div_ceil(EXPLAINED_SAMPLES).max(1);
     let pattern = crate::factor::Pattern::new(samples.pattern.queries.iter().step_by(stride).copied().collect(), samples.pattern.has_uv);
     let values: Vec<[f64; 3]> = samples.values.iter().step_by(stride).copied().collect();
-    let prepared = crate::factor::prepare(&pattern, settings)?;
+    // Per channel, as the thesis fits: the light is found by the shading's shape, and one
+    // system prepares in half the time of the coupled pair.
+    let prepared = crate::factor::prepare(&pattern, &settings.luminance())?;
     let fit = prepared.solve(&values, Mapping::Offset(None))?;
     let predicted = prepared.predict(&fit.tables, &fit.map);
     let mut errors: Vec<(f64, f64)> = values

@@ -281,7 +281,9 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
 /// than the fit; `eps` the floor, [`FLOOR`] of the brightest value), and the robust
 /// standard deviation of those ratios (from their median absolute value).
 fn search_fit(samples: &Samples, settings: &Settings, eps: f64) -> Result<(Vec<[f64; 3]>, Vec<f64>, f64)> {
-    let prepared = crate::factor::prepare(&samples.pattern, settings)?;
+    // Per channel, as the thesis fits: strays are found by their brightness in any channel,
+    // and one system prepares in half the time of the coupled pair.
+    let prepared = crate::factor::prepare(&samples.pattern, &settings.luminance())?;
     let fit = prepared.solve(&samples.values, Mapping::Offset(None))?;
     let predicted = prepared.predict(&fit.tables, &fit.map);
     let signed: Vec<f64> = samples

@@ -13,6 +13,7 @@
 //!   [`measure_stroke_to_frame`]: the live painting loop, stroke to frame.
 
 pub mod bench;
+pub mod colour;
 pub mod faults;
 pub mod fidelity;
 pub mod painted;
