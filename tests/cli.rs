@@ -83,8 +83,8 @@ fn bench_json_has_the_documented_fields() {
     // factored (1D, 2D) against GGX at 512² and 1024²; environments: preparation of the two
     // bundled ones and 3 frame cases; the live-paint stroke -> frame case; read + fit of a
     // 512² painting, as rendered and in flat tones; the live full fit after a pause, and a
-    // stroke while it runs.
-    assert_eq!(cases.len(), 61);
+    // stroke while it runs; the stroke with coupled channels.
+    assert_eq!(cases.len(), 62);
     let name = |c: &&serde_json::Value| c["case"].as_str().unwrap().to_string();
     let (maps, rest): (Vec<_>, Vec<_>) = cases.iter().partition(|c| name(c).starts_with("table5.3"));
     let (fidelity, rest): (Vec<_>, Vec<_>) = rest.into_iter().partition(|c| name(c).starts_with("table5.4"));
@@ -104,8 +104,9 @@ fn bench_json_has_the_documented_fields() {
         assert!(prepared || framed, "{c}");
     }
     assert_eq!(gl.len(), 4);
-    // The stroke, the stroke while the full fit runs, the full fit after the pause.
-    assert_eq!(live.len(), 3);
+    // The stroke, the stroke while the full fit runs, the stroke with coupled channels,
+    // the full fit after the pause.
+    assert_eq!(live.len(), 4);
     assert_eq!(factor.len(), 20);
     for c in &live {
         assert!(c["time_s"].as_f64().unwrap() > 0.0 && c["samples"].as_u64().unwrap() > 10_000, "{c}");

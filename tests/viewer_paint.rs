@@ -4,7 +4,7 @@
 #![cfg(feature = "viewer")]
 
 use brdfpaint::brdf::Reflectance;
-use brdfpaint::factor::{Fit, Mapping, Settings};
+use brdfpaint::factor::{Channels, Fit, Mapping, Settings};
 use brdfpaint::gl::HeadlessContext;
 use brdfpaint::material::Material;
 use brdfpaint::render::Renderer;
@@ -276,7 +276,7 @@ fn a_painting_whose_aspect_disagrees_with_the_camera_is_an_error() {
 
 #[test]
 fn the_stroke_to_frame_measurement_runs() {
-    let t = measure_stroke_to_frame("sphere", 128, 5).unwrap();
+    let t = measure_stroke_to_frame("sphere", 128, 5, Channels::default()).unwrap();
     assert!(t.samples > 5000, "{t:?}");
     assert!(t.total_ms > 0.0 && t.solve_ms > 0.0 && t.frame_ms > 0.0, "{t:?}");
     let parts = t.stroke_ms + t.values_ms + t.solve_ms + t.upload_ms + t.frame_ms;
@@ -289,7 +289,7 @@ fn the_stroke_to_frame_measurement_runs() {
 #[ignore]
 fn stroke_to_frame_at_512() {
     for model in ["sphere", "bunny"] {
-        let t = measure_stroke_to_frame(model, 512, 60).unwrap();
+        let t = measure_stroke_to_frame(model, 512, 60, Channels::default()).unwrap();
         println!("{model}: {}", serde_json::to_string(&t).unwrap());
     }
 }

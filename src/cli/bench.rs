@@ -71,7 +71,7 @@ pub(super) fn run(json: bool, quick: bool) -> Result<()> {
         }
         for (k, c) in live.iter().flatten().enumerate() {
             let what = match k {
-                0 | 1 => "ms stroke -> frame (median; one 60 Hz frame is 16.7 ms)",
+                0..=2 => "ms stroke -> frame (median; one 60 Hz frame is 16.7 ms)",
                 _ => "ms from the pause to the settled material, on the worker",
             };
             println!("{}: {} samples, {:.2} {what}", c.case, c.samples.unwrap_or(0), c.time_s.unwrap_or(0.0) * 1e3);

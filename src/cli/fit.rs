@@ -131,10 +131,10 @@ pub(super) struct FitArgs {
     /// Log mapping: auto, identity, offset[:A], inverted[:A].
     #[arg(long, default_value = "auto")]
     mapping: Mapping,
-    /// Colour channels: coupled (the shading's shape fitted on luminance, its colour as a
-    /// smoother quantity that keeps the painting's colours where the paintings leave it
-    /// open) or independent (each channel on its own, as in the thesis).
-    #[arg(long, value_name = "HOW", default_value = "coupled")]
+    /// Colour channels: independent (each channel on its own, as in the thesis) or coupled
+    /// (the shading's shape fitted on luminance, its colour as a smoother quantity that
+    /// keeps the painting's colours where the paintings leave it open).
+    #[arg(long, value_name = "HOW", default_value = "independent")]
     channels: Channels,
     /// An analytic base under the product of a uniform fit (the product is fitted to
     /// S / B): auto (the lobe of the classic family, GGX, Blinn-Phong, Phong, Ward,

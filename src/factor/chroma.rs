@@ -39,10 +39,11 @@ use crate::error::{Error, Result};
 #[serde(rename_all = "kebab-case")]
 pub enum Channels {
     /// Luminance with the settings as given, chroma smoother and drawn to the painting's
-    /// mean colour (this module).
-    #[default]
+    /// mean colour (this module). Opt-in: its damping and ridge also act where the samples
+    /// show a hue change (a white highlight on a coloured body), see BENCHMARKS.md.
     Coupled,
-    /// Each channel on its own, as in the thesis.
+    /// Each channel on its own, as in the thesis: the default.
+    #[default]
     Independent,
 }
 

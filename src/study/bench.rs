@@ -20,7 +20,7 @@ use glow::HasContext;
 use super::median;
 use crate::brdf::{Analytic, Reflectance, SphereView, Striped};
 use crate::error::{Error, Result};
-use crate::factor::{prepare, LogMap, Pattern, Settings};
+use crate::factor::{prepare, Channels, LogMap, Pattern, Settings};
 use crate::render::{Ggx, GpuScene, GpuShading, Renderer};
 
 /// One measured case: the fields of DESIGN.md's `bench --json` that apply.
@@ -550,8 +550,10 @@ pub fn fidelity_table(cases: &[Case]) -> String {
 /// while the full fit the window settles on runs on its worker; the third that fit's own time.
 pub fn live_paint_cases(quick: bool) -> Result<Vec<Case>> {
     let strokes = if quick { 10 } else { 60 };
-    let t = super::measure_stroke_to_frame("bunny", 512, strokes)?;
-    let case = |what: &str, total_ms: f64| Case {
+    let t = super::measure_stroke_to_frame("bunny", 512, strokes, Channels::default())?;
+    // Coupled channels in the same run: what coupling the colour costs a stroke.
+    let coupled = super::measure_stroke_to_frame("bunny", 512, strokes, Channels::Coupled)?;
+    let case = |what: &str, t: &super::StrokeTiming, total_ms: f64| Case {
         case: format!("live paint stroke -> frame{what}, bunny 512x512"),
         samples: Some(t.samples),
         res: Some(t.size),
@@ -559,8 +561,13 @@ pub fn live_paint_cases(quick: bool) -> Result<Vec<Case>> {
         time_s: Some(total_ms / 1e3),
         ..Default::default()
     };
-    let settle = Case { case: "live paint full fit after the pause, bunny 512x512".into(), ..case("", t.full_fit_ms) };
-    Ok(vec![case("", t.total_ms), case(" during the full fit", t.total_during_fit_ms), settle])
+    let settle = Case { case: "live paint full fit after the pause, bunny 512x512".into(), ..case("", &t, t.full_fit_ms) };
+    Ok(vec![
+        case("", &t, t.total_ms),
+        case(" during the full fit", &t, t.total_during_fit_ms),
+        case(", coupled channels", &coupled, coupled.total_ms),
+        settle,
+    ])
 }
 
 /// `brdfpaint fit --scene` of one 512² painting without its start-up and files (issue 11:

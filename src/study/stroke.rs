@@ -8,7 +8,7 @@ use glow::HasContext;
 
 use super::median;
 use crate::error::{Error, Result};
-use crate::factor::{Mapping, Settings};
+use crate::factor::{Channels, Mapping, Settings};
 use crate::gl::{Framebuffer, HeadlessContext};
 use crate::live::{Brush, PaintSession, PaintView};
 use crate::render::{GpuScene, Renderer};
@@ -52,7 +52,7 @@ pub struct StrokeTiming {
 /// material. Then as many strokes again with the full fit (`fit`'s reading and fit, what the
 /// window settles on) running on its worker the whole time: a stroke's cost while the worker
 /// shares the CPU.
-pub fn measure_stroke_to_frame(model: &str, size: usize, strokes: usize) -> Result<StrokeTiming> {
+pub fn measure_stroke_to_frame(model: &str, size: usize, strokes: usize, channels: Channels) -> Result<StrokeTiming> {
     let ctx = HeadlessContext::new()?;
     let gl = ctx.gl().clone();
     let mut renderer = Renderer::new(&gl)?;
@@ -60,7 +60,7 @@ pub fn measure_stroke_to_frame(model: &str, size: usize, strokes: usize) -> Resu
     let painting = view.reference_painting();
     view.canvas.set_painting(&painting)?;
     let gpu = GpuScene::upload(&gl, &view.scene)?;
-    let mut session = PaintSession::new(Settings::default(), Mapping::Auto);
+    let mut session = PaintSession::new(Settings { channels, ..Settings::default() }, Mapping::Auto);
     session.add_view(view);
     let t = Instant::now();
     session.settle()?;
