@@ -68,6 +68,9 @@ fn gltf(args: &ExportArgs, material: &Material, out: &Path) -> Result<()> {
         "glTF metallic-roughness: base colour ({:.3}, {:.3}, {:.3}), metallic {:.3}, roughness {:.3}",
         p.base_color[0], p.base_color[1], p.base_color[2], p.metallic, p.roughness
     );
+    if let Some(k) = p.specular_color() {
+        println!("KHR_materials_specular: dielectric F0 {:.3} (specularColorFactor {k:.2}, grey)", p.specular_f0);
+    }
     if report.covered_pairs > 0 {
         let scenes: Vec<String> = report.scenes.iter().map(|s| s.display().to_string()).collect();
         println!(

@@ -120,12 +120,15 @@ fn material(b: &mut Builder, glb: &Glb, images: &mut Vec<Value>, textures: &mut 
             json!({ "name": name, "bufferView": b.view(bytes, None), "mimeType": mime })
         })
         .collect();
-    json!({
-        "name": "brdfpaint",
-        "pbrMetallicRoughness": pbr,
-        "extensions": { EXTENSION: { "version": EXTENSION_VERSION, "files": files } },
-    })
+    let mut extensions = json!({ EXTENSION: { "version": EXTENSION_VERSION, "files": files } });
+    if let Some(k) = p.specular_color() {
+        extensions[SPECULAR] = json!({ "specularColorFactor": [k, k, k] });
+    }
+    json!({ "name": "brdfpaint", "pbrMetallicRoughness": pbr, "extensions": extensions })
 }
+
+/// The extension that carries a dielectric $F_0$ above core glTF's 0.04.
+const SPECULAR: &str = "KHR_materials_specular";
 
 /// The document and its binary chunk.
 fn document(glb: &Glb) -> (Value, Vec<u8>) {
@@ -139,7 +142,7 @@ fn document(glb: &Glb) -> (Value, Vec<u8>) {
     let nodes: Vec<Value> = (0..meshes.len()).map(|k| json!({ "mesh": k })).collect();
     let mut doc = json!({
         "asset": { "version": "2.0", "generator": crate::material::TOOL },
-        "extensionsUsed": [EXTENSION],
+        "extensionsUsed": if glb.pbr.specular_color().is_some() { json!([EXTENSION, SPECULAR]) } else { json!([EXTENSION]) },
         "scene": 0,
         "scenes": [{ "nodes": (0..nodes.len()).collect::<Vec<_>>() }],
         "nodes": nodes,

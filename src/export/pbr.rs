@@ -27,7 +27,8 @@ pub const DIELECTRIC_F0: f64 = 0.04;
 /// resolves, and renderers clamp lower values anyway.
 pub const MIN_ROUGHNESS: f64 = 0.03;
 
-/// A glTF metallic-roughness material (core glTF 2.0, no extensions).
+/// A glTF metallic-roughness material, with `KHR_materials_specular` where its dielectric
+/// reflects more than core glTF's.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pbr {
     /// `baseColorFactor`'s RGB, linear, in [0, 1].
@@ -36,11 +37,28 @@ pub struct Pbr {
     pub metallic: f64,
     /// `roughnessFactor`, in [[`MIN_ROUGHNESS`], 1].
     pub roughness: f64,
+    /// The dielectric's Schlick $F_0$, in [[`DIELECTRIC_F0`], 1]: core glTF's above it is
+    /// `KHR_materials_specular` with a grey `specularColorFactor` of $F_0 / 0.04$ and
+    /// `specularFactor` 1 (so $F_{90} = 1$, as in core glTF).
+    pub specular_f0: f64,
+}
+
+impl Pbr {
+    /// A core glTF material (no extension).
+    pub fn core(base_color: [f64; 3], metallic: f64, roughness: f64) -> Pbr {
+        Pbr { base_color, metallic, roughness, specular_f0: DIELECTRIC_F0 }
+    }
+
+    /// `KHR_materials_specular`'s grey `specularColorFactor`, when the material needs it.
+    pub fn specular_color(&self) -> Option<f64> {
+        (self.specular_f0 > DIELECTRIC_F0 * (1.0 + 1e-9)).then(|| self.specular_f0 / DIELECTRIC_F0)
+    }
 }
 
 /// What the shading of a [`Pbr`] is made of at one query, per channel: $S = a + b\,c$ for
-/// base colour $c$ at fixed metallic and roughness (the BRDF is linear in $c$).
-pub fn affine_in_base_color(metallic: f64, roughness: f64, q: &Query) -> (f64, f64) {
+/// base colour $c$ at fixed metallic, roughness and dielectric $F_0$ (the BRDF is linear in
+/// $c$; `KHR_materials_specular` mixes diffuse and specular by the same Schlick term).
+pub fn affine_in_base_color(metallic: f64, roughness: f64, f0: f64, q: &Query) -> (f64, f64) {
     let cl = q.l.z;
     if cl <= 0.0 || q.v.z <= 0.0 {
         return (0.0, 0.0);
@@ -48,7 +66,7 @@ pub fn affine_in_base_color(metallic: f64, roughness: f64, q: &Query) -> (f64, f
     let alpha = roughness * roughness;
     // $s = \cos\theta_l V D$, and Schlick's $x$.
     let (s, x) = specular_shape(q.l, q.v, alpha);
-    let fd = DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * x;
+    let fd = f0 + (1.0 - f0) * x;
     // Dielectric: $\pi\cos\theta_l[(1 - F_d) c/\pi + F_d V D]$.
     let (a_d, b_d) = (PI * fd * s, (1.0 - fd) * cl);
     // Metal: $\pi\cos\theta_l V D (c + (1 - c) x)$.
@@ -59,7 +77,7 @@ pub fn affine_in_base_color(metallic: f64, roughness: f64, q: &Query) -> (f64, f
 impl Reflectance for Pbr {
     /// $S = \pi f \cos\theta_l$ (module documentation).
     fn shading(&self, q: &Query) -> [f64; 3] {
-        let (a, b) = affine_in_base_color(self.metallic, self.roughness, q);
+        let (a, b) = affine_in_base_color(self.metallic, self.roughness, self.specular_f0, q);
         self.base_color.map(|c| a + b * c)
     }
 }
@@ -73,7 +91,7 @@ mod tests {
     fn white_dielectric_rough_is_near_lambert_in_painter_units() {
         // Head-on light and view: S = (1 - F0) c + π F0 D V for α = 1, where D = 1/π and
         // V = 1/4 (G1 = 1 at normal incidence): 0.96 c + 0.04/4.
-        let pbr = Pbr { base_color: [1.0, 0.5, 0.0], metallic: 0.0, roughness: 1.0 };
+        let pbr = Pbr::core([1.0, 0.5, 0.0], 0.0, 1.0);
         let s = pbr.shading(&Query::at(DVec3::Z, DVec3::Z));
         for (c, &base) in [1.0, 0.5, 0.0].iter().enumerate() {
             let expected = 0.96 * base + 0.04 / 4.0;
@@ -83,7 +101,7 @@ mod tests {
 
     #[test]
     fn metal_has_no_diffuse_and_below_horizon_is_dark() {
-        let pbr = Pbr { base_color: [0.9, 0.6, 0.3], metallic: 1.0, roughness: 0.4 };
+        let pbr = Pbr::core([0.9, 0.6, 0.3], 1.0, 0.4);
         // Off the mirror direction by a wide angle, a narrow metal lobe is nearly black.
         let l = DVec3::new(0.8, 0.0, 0.6).normalize();
         let v = DVec3::new(0.8, 0.0, 0.6).normalize();

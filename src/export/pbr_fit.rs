@@ -4,7 +4,9 @@
 //! At fixed metallic $m$ and roughness $r$ the shading is affine in the base colour,
 //! $S = a + b\,c$ ([`affine_in_base_color`]), so each channel's $c$ is one weighted linear
 //! least-squares solve, clamped to $[0, 1]$. $(m, r)$ are searched on a grid, then on a
-//! grid ten times finer about the best.
+//! grid ten times finer about the best; a dielectric's $F_0$ above core glTF's
+//! (`KHR_materials_specular`) on a geometric grid at $m = 0$, kept only when it lowers the
+//! loss (the grid holds core glTF's 0.04, so the extension never makes a fit worse).
 //!
 //! The loss is the squared relative error on the covered directions alone when they are
 //! known, else on all directions: elsewhere the factored material is extrapolation, and a
@@ -15,11 +17,14 @@ use crate::brdf::Reflectance;
 use crate::factor::Query;
 
 use super::coverage::Directions;
-use super::pbr::{affine_in_base_color, Pbr, MIN_ROUGHNESS};
+use super::pbr::{affine_in_base_color, Pbr, DIELECTRIC_F0, MIN_ROUGHNESS};
 
 /// Coarse grid steps of roughness and metallic.
 const ROUGHNESS_STEP: f64 = 0.025;
 const METALLIC_STEP: f64 = 0.05;
+/// Ratio between neighbouring $F_0$ of the coarse grid: a highlight's strength is judged
+/// in ratios (0.04 to 1 in 9 steps); the fine grid divides it in five.
+const F0_RATIO: f64 = 1.5;
 
 /// A set of direction pairs with the reference's values there and the set's share of the loss.
 struct Target<'a> {
@@ -56,11 +61,9 @@ pub struct Approximation {
 pub fn fit(reference: &dyn Reflectance, covered: Option<&Directions>, all: &Directions) -> Approximation {
     let targets = vec![Target::new(reference, covered.unwrap_or(all), 1.0)];
     let coarse_r: Vec<f64> = grid(MIN_ROUGHNESS, 1.0, ROUGHNESS_STEP);
-    let coarse_m: Vec<f64> = grid(0.0, 1.0, METALLIC_STEP);
-    let (mut best, _) = search(&targets, &coarse_r, &coarse_m);
-    let fine_r = grid((best.roughness - ROUGHNESS_STEP).max(MIN_ROUGHNESS), (best.roughness + ROUGHNESS_STEP).min(1.0), ROUGHNESS_STEP / 10.0);
-    let fine_m = grid((best.metallic - METALLIC_STEP).max(0.0), (best.metallic + METALLIC_STEP).min(1.0), METALLIC_STEP / 10.0);
-    best = search(&targets, &fine_r, &fine_m).0;
+    let core = refine(&targets, search(&targets, &coarse_r, &grid(0.0, 1.0, METALLIC_STEP), &[DIELECTRIC_F0]).0);
+    let specular = refine(&targets, search(&targets, &coarse_r, &[0.0], &f0_grid(DIELECTRIC_F0, 1.0, F0_RATIO)).0);
+    let best = if loss(&targets, &specular) < loss(&targets, &core) { specular } else { core };
     let covered_error = relative_rms(&best, reference, covered.unwrap_or(all));
     Approximation { pbr: best, covered: covered_error, all: relative_rms(&best, reference, all) }
 }
@@ -78,23 +81,54 @@ pub fn relative_rms(pbr: &dyn Reflectance, reference: &dyn Reflectance, dirs: &D
     (se / sv.max(f64::MIN_POSITIVE)).sqrt()
 }
 
+/// The best material on a grid ten times finer about `coarse` (in $F_0$, five times finer
+/// in ratio), metallic held at 0 for a dielectric with its own $F_0$.
+fn refine(targets: &[Target], coarse: Pbr) -> Pbr {
+    let r = grid((coarse.roughness - ROUGHNESS_STEP).max(MIN_ROUGHNESS), (coarse.roughness + ROUGHNESS_STEP).min(1.0), ROUGHNESS_STEP / 10.0);
+    if coarse.specular_f0 > DIELECTRIC_F0 {
+        let f0 = f0_grid((coarse.specular_f0 / F0_RATIO).max(DIELECTRIC_F0), (coarse.specular_f0 * F0_RATIO).min(1.0), F0_RATIO.powf(0.2));
+        return search(targets, &r, &[coarse.metallic], &f0).0;
+    }
+    let m = grid((coarse.metallic - METALLIC_STEP).max(0.0), (coarse.metallic + METALLIC_STEP).min(1.0), METALLIC_STEP / 10.0);
+    search(targets, &r, &m, &[coarse.specular_f0]).0
+}
+
+/// The loss of a material over the targets.
+fn loss(targets: &[Target], p: &Pbr) -> f64 {
+    let parts: Vec<Vec<(f64, f64)>> =
+        targets.iter().map(|t| t.queries.iter().map(|q| affine_in_base_color(p.metallic, p.roughness, p.specular_f0, q)).collect()).collect();
+    (0..3).map(|c| channel_loss(targets, &parts, c, p.base_color[c])).sum()
+}
+
+/// `lo`, `lo × ratio`, … up to `hi` (inclusive, within rounding).
+fn f0_grid(lo: f64, hi: f64, ratio: f64) -> Vec<f64> {
+    let n = ((hi / lo).ln() / ratio.ln() + 1e-9).floor() as usize;
+    let mut out: Vec<f64> = (0..=n).map(|i| lo * ratio.powi(i as i32)).collect();
+    if out.last().is_some_and(|&x| x < hi * (1.0 - 1e-9)) {
+        out.push(hi);
+    }
+    out
+}
+
 /// `lo`, `lo + step`, … up to `hi` (inclusive, within rounding).
 fn grid(lo: f64, hi: f64, step: f64) -> Vec<f64> {
     let n = ((hi - lo) / step + 1e-9).floor() as usize;
     (0..=n).map(|i| lo + i as f64 * step).collect()
 }
 
-/// The best material over a grid of roughness and metallic, and its loss.
-fn search(targets: &[Target], roughness: &[f64], metallic: &[f64]) -> (Pbr, f64) {
-    let mut best = (Pbr { base_color: [0.5; 3], metallic: 0.0, roughness: 1.0 }, f64::INFINITY);
+/// The best material over a grid of roughness, metallic and dielectric $F_0$, and its loss.
+fn search(targets: &[Target], roughness: &[f64], metallic: &[f64], f0: &[f64]) -> (Pbr, f64) {
+    let mut best = (Pbr::core([0.5; 3], 0.0, 1.0), f64::INFINITY);
     for &r in roughness {
         for &m in metallic {
-            let parts: Vec<Vec<(f64, f64)>> =
-                targets.iter().map(|t| t.queries.iter().map(|q| affine_in_base_color(m, r, q)).collect()).collect();
-            let base_color = [0, 1, 2].map(|c| solve_channel(targets, &parts, c));
-            let loss: f64 = (0..3).map(|c| channel_loss(targets, &parts, c, base_color[c])).sum();
-            if loss < best.1 {
-                best = (Pbr { base_color, metallic: m, roughness: r }, loss);
+            for &f in f0 {
+                let parts: Vec<Vec<(f64, f64)>> =
+                    targets.iter().map(|t| t.queries.iter().map(|q| affine_in_base_color(m, r, f, q)).collect()).collect();
+                let base_color = [0, 1, 2].map(|c| solve_channel(targets, &parts, c));
+                let loss: f64 = (0..3).map(|c| channel_loss(targets, &parts, c, base_color[c])).sum();
+                if loss < best.1 {
+                    best = (Pbr { base_color, metallic: m, roughness: r, specular_f0: f }, loss);
+                }
             }
         }
     }
@@ -130,7 +164,7 @@ mod tests {
 
     #[test]
     fn recovers_a_pbr_material_from_its_own_shading() {
-        let truth = Pbr { base_color: [0.8, 0.25, 0.1], metallic: 0.0, roughness: 0.5 };
+        let truth = Pbr::core([0.8, 0.25, 0.1], 0.0, 0.5);
         let all = Directions::all();
         let a = fit(&truth, None, &all);
         for c in 0..3 {
@@ -138,11 +172,23 @@ mod tests {
         }
         assert!((a.pbr.roughness - 0.5).abs() < 0.01 && a.pbr.metallic < 0.02, "{:?}", a.pbr);
         assert!(a.all < 1e-3, "{}", a.all);
+        assert_eq!(a.pbr.specular_color(), None, "{:?}", a.pbr);
+    }
+
+    #[test]
+    fn recovers_a_dielectric_brighter_than_core_gltf_allows() {
+        // A varnish-like F0 of 0.2 (index of refraction about 2.6): KHR_materials_specular.
+        let truth = Pbr { base_color: [0.1, 0.3, 0.6], metallic: 0.0, roughness: 0.3, specular_f0: 0.2 };
+        let a = fit(&truth, None, &Directions::all());
+        assert!(a.pbr.metallic < 0.02 && (a.pbr.roughness - 0.3).abs() < 0.02, "{:?}", a.pbr);
+        assert!((a.pbr.specular_f0 / 0.2 - 1.0).abs() < 0.1, "{:?}", a.pbr);
+        assert!((a.pbr.specular_color().unwrap() - 5.0).abs() < 0.5, "{:?}", a.pbr);
+        assert!(a.all < 0.02, "{}", a.all);
     }
 
     #[test]
     fn recovers_a_metal() {
-        let truth = Pbr { base_color: [0.95, 0.64, 0.54], metallic: 1.0, roughness: 0.3 };
+        let truth = Pbr::core([0.95, 0.64, 0.54], 1.0, 0.3);
         let a = fit(&truth, None, &Directions::all());
         assert!((a.pbr.metallic - 1.0).abs() < 0.02 && (a.pbr.roughness - 0.3).abs() < 0.01, "{:?}", a.pbr);
         assert!((a.pbr.base_color[1] - 0.64).abs() < 0.02, "{:?}", a.pbr);
