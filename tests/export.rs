@@ -23,8 +23,8 @@ const LIGHT: [f64; 3] = [-0.4, 0.5, 0.77];
 /// A GGX sphere in the painter's convention: pixel = base colour × cos θ_l for the diffuse
 /// part, i.e. π × the BRDF × cos θ_l ([`Analytic::Ggx`]'s diffuse is ρ/π; glTF's α =
 /// roughness² as here). The disk inscribed in the square, on a transparent background.
-fn ggx_lit_sphere(res: usize) -> Painting {
-    let model = Analytic::Ggx { diffuse: BASE, f0: [F0; 3], roughness: ROUGHNESS };
+fn ggx_lit_sphere(res: usize, f0: f64) -> Painting {
+    let model = Analytic::Ggx { diffuse: BASE, f0: [f0; 3], roughness: ROUGHNESS };
     let mut p = Painting::opaque(res, res, vec![[0.0; 3]; res * res]).unwrap();
     p.alpha = vec![0.0; res * res];
     let light = DVec3::from_array(LIGHT).normalize();
@@ -81,8 +81,13 @@ fn pbr_of(file: &Path) -> ([f64; 3], f64, f64) {
 
 /// A fit of the target sphere: (directory, material).
 fn fitted_sphere(dir: &Path) -> (PathBuf, PathBuf) {
+    fitted_sphere_with(dir, F0)
+}
+
+/// A fit of the target sphere with dielectric F0 `f0`: (directory, material).
+fn fitted_sphere_with(dir: &Path, f0: f64) -> (PathBuf, PathBuf) {
     let png = dir.join("ggx.png");
-    std::fs::write(&png, ggx_lit_sphere(256).encode_png16().unwrap()).unwrap();
+    std::fs::write(&png, ggx_lit_sphere(256, f0).encode_png16().unwrap()).unwrap();
     let mat = dir.join("mat");
     let light = format!("{},{},{}", LIGHT[0], LIGHT[1], LIGHT[2]);
     let run = brdfpaint(dir, &["fit", "--lit-sphere", png.to_str().unwrap(), "--light", &light, "--out", mat.to_str().unwrap()]);
@@ -111,6 +116,38 @@ fn a_painted_ggx_sphere_exports_its_gltf_material() {
     let exact = Material::load(&mat).unwrap();
     let packed = Material::load(&glb).unwrap();
     assert_eq!(exact.terms, packed.terms);
+}
+
+#[test]
+fn a_varnish_brighter_than_core_gltf_exports_khr_materials_specular() {
+    // F0 = 0.2 (index of refraction about 2.6): core glTF's dielectric stops at 0.04, so the
+    // extension carries it, as specularColorFactor 0.2 / 0.04 = 5 (grey).
+    let dir = tempfile::tempdir().unwrap();
+    let (_, mat) = fitted_sphere_with(dir.path(), 0.2);
+    let glb = dir.path().join("varnish.glb");
+    let run = brdfpaint(dir.path(), &["export", mat.to_str().unwrap(), "--gltf", glb.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let (base, metallic, roughness) = pbr_of(&glb);
+    // The picture's diffuse (Analytic::Ggx, ρ/π) has no (1 − F) factor and glTF's has: the
+    // fit puts back about 1 / (1 − F0), capped at 1.
+    let want = BASE.map(|b| (b / (1.0 - 0.2)).min(1.0));
+    for c in 0..3 {
+        assert!((base[c] - want[c]).abs() <= 0.1 * want[c], "base colour {base:?} vs {want:?}\n{}", run.stdout);
+    }
+    assert!((roughness - ROUGHNESS).abs() <= 0.1 && metallic <= 0.2, "roughness {roughness}, metallic {metallic}\n{}", run.stdout);
+    let (json, _) = split_glb(&std::fs::read(&glb).unwrap()).unwrap();
+    let k = json["materials"][0]["extensions"]["KHR_materials_specular"]["specularColorFactor"][0].as_f64().unwrap();
+    assert!((k - 5.0).abs() <= 1.0, "specularColorFactor {k}\n{}", run.stdout);
+    assert!(json["extensionsUsed"].as_array().unwrap().iter().any(|e| e == "KHR_materials_specular"));
+    assert!(run.stdout.contains("KHR_materials_specular"), "{}", run.stdout);
+    assert_valid(&glb);
+    // Core glTF's own dielectric needs no extension.
+    std::fs::create_dir(dir.path().join("core")).unwrap();
+    let (_, core) = fitted_sphere(&dir.path().join("core"));
+    let core_glb = dir.path().join("core.glb");
+    assert_eq!(brdfpaint(dir.path(), &["export", core.to_str().unwrap(), "--gltf", core_glb.to_str().unwrap()]).code, 0);
+    let (json, _) = split_glb(&std::fs::read(&core_glb).unwrap()).unwrap();
+    assert!(json["materials"][0]["extensions"].get("KHR_materials_specular").is_none(), "{}", json["materials"][0]);
 }
 
 #[test]
@@ -161,7 +198,7 @@ fn a_matcap_of_a_lit_sphere_fit_gives_its_picture_back() {
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert!(run.stdout.contains("the picture's light"), "{}", run.stdout);
     let got = image::open(&exr).unwrap().into_rgba32f();
-    let want = ggx_lit_sphere(256);
+    let want = ggx_lit_sphere(256, F0);
     let (mut se, mut sv, mut n) = (0.0f64, 0.0f64, 0);
     for j in 0..256usize {
         for i in 0..256usize {
