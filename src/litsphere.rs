@@ -585,6 +585,18 @@ pub struct LitSphere {
     pub light: DVec3,
 }
 
+impl LitSphere {
+    /// Writes the material, its report and the scene it was fitted in (`scene.gltf`) into
+    /// `out`, in one commit: the folder appears whole or not at all, the user's files in it
+    /// are kept, and the picture at `image` is never removed even if it lies there.
+    pub fn save(&self, image: &Path, out: &Path) -> Result<()> {
+        let mut staged = self.fitted.stage(std::slice::from_ref(&self.view), out)?;
+        staged.write("scene.gltf", |p| self.scene.write_gltf(p))?;
+        staged.keep_inputs([image]);
+        staged.commit()
+    }
+}
+
 /// Fits a material to a lit-sphere picture or MatCap at `path` (PNG, JPEG, EXR), lit from
 /// `light` (view frame, towards the light) or from the estimated light.
 pub fn fit(path: &Path, light: Option<DVec3>, opts: &Options, cache: Option<&Cache>) -> Result<LitSphere> {
