@@ -67,6 +67,10 @@ pub(super) struct FitArgs {
     /// library: --out LIB gets LIB/NAME/ per picture, LIB/gallery.png and LIB/index.html.
     #[arg(long, value_name = "IMAGE|DIR", num_args = 1.., conflicts_with_all = ["scene", "normals", "photos"])]
     lit_sphere: Vec<PathBuf>,
+    /// With --lit-sphere: the longest side a picture is fitted at, 16 to 4096 pixels (a
+    /// larger one is box-filtered down). Default 512 for one picture, 256 for a library.
+    #[arg(long, value_name = "N", requires = "lit_sphere")]
+    max_side: Option<usize>,
     /// With --lit-sphere: the direction towards the light, X,Y,Z in the picture's frame (x
     /// right, y up, z towards the viewer); estimated from the shading when not given.
     /// With --normals: the light of the preceding --image, X,Y,Z towards it in the normal
@@ -209,6 +213,9 @@ fn options(args: &FitArgs) -> Result<Options> {
         Some(MapFitArg::Greedy) => map::Method::Greedy,
         Some(MapFitArg::Cluster) | None => map::Method::Cluster,
     };
+    if let Some(n) = args.max_side.filter(|n| !(litsphere::MIN_SIDE..=4096).contains(n)) {
+        return Err(Error::input(format!("--max-side {n}: give {} to 4096 pixels", litsphere::MIN_SIDE)));
+    }
     if !(0..=MAX_ERODE).contains(&args.erode) {
         return Err(Error::input(format!("--erode {}: give 0 to {MAX_ERODE} pixels", args.erode)));
     }
@@ -247,7 +254,10 @@ pub(super) fn run(args: FitArgs) -> std::result::Result<(), Failure> {
             let inputs = library::gather(&args.lit_sphere)?;
             match inputs.pictures.as_slice() {
                 [one] if !inputs.is_library() => Ok(run_lit_sphere(&one.path, &args, &opts)?),
-                _ => Ok(super::library::run(&inputs, args.light.first().map(|l| l.direction), &opts, &args.out)?),
+                _ => {
+                    let max_side = args.max_side.unwrap_or(super::library::MAX_SIDE);
+                    Ok(super::library::run(&inputs, args.light.first().map(|l| l.direction), &opts, max_side, &args.out)?)
+                }
             }
         }
         (None, []) => {
@@ -296,7 +306,8 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
 /// write the material with its report and the scene it was fitted in.
 fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
     let light = args.light.first().map(|l| l.direction);
-    let lit = litsphere::fit(image, light, opts, Cache::user().as_ref())?;
+    let max_side = args.max_side.unwrap_or(litsphere::MAX_SIDE);
+    let lit = litsphere::fit_sized(image, light, opts, Cache::user().as_ref(), max_side)?;
     let d = &lit.disk;
     let how = match lit.outline {
         litsphere::Outline::Alpha => "its alpha",
