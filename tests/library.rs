@@ -98,14 +98,20 @@ fn file_names(dir: &Path) -> Vec<String> {
     v
 }
 
-#[test]
-fn each_material_is_what_a_single_fit_of_its_picture_writes() {
+/// The library of [`picture_folder`] without its corrupt picture: the root, folder, library.
+fn good_library() -> (tempfile::TempDir, PathBuf, PathBuf) {
     let root = tempfile::tempdir().unwrap();
     let dir = picture_folder(root.path());
     std::fs::remove_file(dir.join("broken.png")).unwrap();
     let lib = root.path().join("lib");
     let run = library_of(root.path(), &[s(&dir)], &lib);
     assert_eq!(run.code, 0, "{}", run.stderr);
+    (root, dir, lib)
+}
+
+#[test]
+fn each_material_is_what_a_single_fit_of_its_picture_writes() {
+    let (root, dir, lib) = good_library();
     for (name, file) in [("clay", "clay.png"), ("jade", "jade.png"), ("toon", "toon.exr")] {
         let single = root.path().join(format!("single-{name}"));
         let one = library_of(root.path(), &[s(&dir.join(file))], &single);
@@ -129,11 +135,7 @@ fn png_pixels(path: &Path) -> (usize, usize, Vec<[u8; 3]>) {
 
 #[test]
 fn the_gallery_has_a_row_per_picture_showing_that_picture() {
-    let root = tempfile::tempdir().unwrap();
-    let dir = picture_folder(root.path());
-    std::fs::remove_file(dir.join("broken.png")).unwrap();
-    let lib = root.path().join("lib");
-    assert_eq!(library_of(root.path(), &[s(&dir)], &lib).code, 0);
+    let (_root, _, lib) = good_library();
     let (w, h, px) = png_pixels(&lib.join("gallery.png"));
     assert_eq!((w, h), (CELLS * CELL, 3 * (BAND + CELL)));
     // The picture cell, by hand: a 64 px picture is each pixel doubled; a 128 px one is itself.
