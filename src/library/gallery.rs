@@ -33,9 +33,19 @@ pub const TURN_DEG: f32 = 90.0;
 /// Renders are drawn at this many times the cell and box-filtered down.
 const SUPERSAMPLE: usize = 2;
 
-/// The gallery's size for `rows` materials: [`CELLS`] cells wide, a band and a cell a row.
+/// Most rows in one column of the gallery: more go on in further columns to the right, so a
+/// library of thousands stays within an image's 32768 pixels a side.
+pub const ROWS_PER_COLUMN: usize = 200;
+
+/// The gallery's size for `rows` materials: a column of rows ([`CELLS`] cells wide, a band
+/// and a cell high) per [`ROWS_PER_COLUMN`].
 pub fn size(rows: usize) -> (usize, usize) {
-    (CELLS * CELL, rows * (BAND + CELL))
+    (rows.div_ceil(ROWS_PER_COLUMN) * CELLS * CELL, rows.min(ROWS_PER_COLUMN) * (BAND + CELL))
+}
+
+/// Where row `k`'s top-left corner is in the gallery.
+pub fn row_origin(k: usize) -> (usize, usize) {
+    ((k / ROWS_PER_COLUMN) * CELLS * CELL, (k % ROWS_PER_COLUMN) * (BAND + CELL))
 }
 
 /// The moved light: `key` turned [`TURN_DEG`] about the view's vertical axis, towards the
@@ -72,7 +82,8 @@ pub fn write(dir: &Path, fitted: &[Fitted]) -> Result<()> {
             let cell = Rgb { width: CELL, height: CELL, pixels: area_resample(&over, side, side, CELL, CELL) };
             paste(&mut row, &cell, (c + 1) * CELL, BAND);
         }
-        paste(&mut gallery, &row, 0, k * (BAND + CELL));
+        let (x, y) = row_origin(k);
+        paste(&mut gallery, &row, x, y);
         row.write_png(&rows_dir.join(format!("{}.png", f.name)))?;
     }
     gallery.write_png(&dir.join(super::GALLERY))
@@ -168,6 +179,14 @@ mod tests {
         assert!((out[0][0] - 1.0).abs() < 1e-6 && (out[1][0] - 5.0).abs() < 1e-6, "{out:?}");
         // Upscaling repeats.
         assert_eq!(area_resample(&[[1.0; 3], [2.0; 3]], 2, 1, 4, 1), [[1.0; 3], [1.0; 3], [2.0; 3], [2.0; 3]]);
+    }
+
+    #[test]
+    fn a_long_gallery_goes_on_in_columns() {
+        assert_eq!(size(3), (CELLS * CELL, 3 * (BAND + CELL)));
+        assert_eq!(size(450), (3 * CELLS * CELL, ROWS_PER_COLUMN * (BAND + CELL)));
+        assert_eq!(row_origin(201), (CELLS * CELL, BAND + CELL));
+        assert!(size(10_000).1 <= 1 << 15);
     }
 
     #[test]
