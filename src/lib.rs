@@ -41,6 +41,7 @@ pub mod factor;
 pub mod fsio;
 pub mod gl;
 pub mod images;
+pub mod library;
 pub mod litsphere;
 pub mod live;
 pub mod material;

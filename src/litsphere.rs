@@ -327,23 +327,23 @@ pub const MIN_LIGHT_Z: f64 = 0.15;
 /// Weighted least-squares cost of the shading model under light `l` (module docs), with
 /// its coefficients; `None` when the fit would need light to darken the lit side.
 fn model_cost(l: DVec3, normals: &[DVec3], y: &[f64], weight: &[f64]) -> Option<(f64, [f64; 3])> {
-    let feature = |n: &DVec3| {
+    // One pass of sums: the features are (1, c⁺, c⁻) with c⁺ c⁻ = 0, so the normal equations
+    // and the cost need only these nine (the search makes thousands of passes per picture).
+    let mut t = [0.0f64; 9];
+    for ((n, &yv), &wt) in normals.iter().zip(y).zip(weight) {
         let c = n.dot(l);
-        DVec3::new(1.0, c.max(0.0), c.min(0.0))
-    };
-    let solve = |cols: usize| -> Option<(f64, [f64; 3])> {
-        let (mut m, mut rhs) = (DMat3::ZERO, DVec3::ZERO);
-        for ((n, &yv), &wt) in normals.iter().zip(y).zip(weight) {
-            let mut f = feature(n);
-            if cols == 2 {
-                f.z = 0.0;
-            }
-            m += DMat3::from_cols(f * f.x, f * f.y, f * f.z) * wt;
-            rhs += f * yv * wt;
+        let (p, m) = (c.max(0.0), c.min(0.0));
+        let terms = [1.0, p, m, p * p, m * m, yv, yv * p, yv * m, yv * yv];
+        for (s, x) in t.iter_mut().zip(terms) {
+            *s += wt * x;
         }
+    }
+    let solve = |cols: usize| -> Option<(f64, [f64; 3])> {
+        let keep = if cols == 2 { 0.0 } else { 1.0 };
+        let gram = DMat3::from_cols(DVec3::new(t[0], t[1], t[2] * keep), DVec3::new(t[1], t[3], 0.0), DVec3::new(t[2] * keep, 0.0, t[4] * keep));
+        let rhs = DVec3::new(t[5], t[6], t[7] * keep);
         // A tiny ridge: with the light at the viewer no pixel is unlit and c has no data.
-        let ridge = 1e-9 * (m.x_axis.x + 1.0);
-        m += DMat3::from_diagonal(DVec3::splat(ridge));
+        let mut m = gram + DMat3::from_diagonal(DVec3::splat(1e-9 * (t[0] + 1.0)));
         if cols == 2 {
             m.z_axis.z = 1.0;
         }
@@ -351,7 +351,8 @@ fn model_cost(l: DVec3, normals: &[DVec3], y: &[f64], weight: &[f64]) -> Option<
         if !s.is_finite() || s.y < 0.0 {
             return None;
         }
-        let cost: f64 = normals.iter().zip(y).zip(weight).map(|((n, &yv), &wt)| wt * (feature(n).dot(s) - yv).powi(2)).sum();
+        // Σ w (f·s − y)², from the same sums.
+        let cost = (s.dot(gram * s) - 2.0 * s.dot(rhs) + t[8]).max(0.0);
         Some((cost, s.to_array()))
     };
     match solve(3) {
@@ -583,6 +584,18 @@ pub struct LitSphere {
     /// `None` when the user gave the light.
     pub estimate: Option<LightEstimate>,
     pub light: DVec3,
+}
+
+impl LitSphere {
+    /// Writes the material, its report and the scene it was fitted in (`scene.gltf`) into
+    /// `out`, in one commit: the folder appears whole or not at all, the user's files in it
+    /// are kept, and the picture at `image` is never removed even if it lies there.
+    pub fn save(&self, image: &Path, out: &Path) -> Result<()> {
+        let mut staged = self.fitted.stage(std::slice::from_ref(&self.view), out)?;
+        staged.write("scene.gltf", |p| self.scene.write_gltf(p))?;
+        staged.keep_inputs([image]);
+        staged.commit()
+    }
 }
 
 /// Fits a material to a lit-sphere picture or MatCap at `path` (PNG, JPEG, EXR), lit from

@@ -486,3 +486,20 @@ fn a_dropped_bad_hdr_keeps_the_environment_and_says_why_in_one_line() {
     assert_eq!(h.studio.environment().name(), good.display().to_string());
     assert!(h.studio.error().is_none(), "{:?}", h.studio.error());
 }
+
+#[test]
+fn page_down_and_the_arrows_step_through_an_opened_library() {
+    let mut h = Harness::new(Mode::View);
+    let live = h.studio.current_material().cloned().expect("the example painting's fit");
+    let materials = ["clay", "jade", "toon"].iter().map(|n| (n.to_string(), live.clone())).collect();
+    h.studio.open_library("lib", materials);
+    h.frame(vec![]);
+    assert_eq!(h.studio.material_name(), "clay");
+    let mut seen = Vec::new();
+    for key in [Key::PageDown, Key::PageDown, Key::ArrowRight, Key::ArrowLeft, Key::PageUp] {
+        h.key(key, Modifiers::NONE);
+        seen.push(h.studio.material_name().to_string());
+    }
+    // Around the list both ways; the live painting's material is not a stop.
+    assert_eq!(seen, ["jade", "toon", "clay", "toon", "jade"]);
+}

@@ -15,6 +15,7 @@ use brdfpaint::error::{Error, Result};
 use brdfpaint::factor::cache::{Cache, Outcome};
 use brdfpaint::read::lobe::BaseChoice;
 use brdfpaint::factor::{prepare, Channels, DifferenceChoice, Fit, Mapping, Pattern, Settings};
+use brdfpaint::library;
 use brdfpaint::litsphere;
 use brdfpaint::read::lobe;
 use brdfpaint::note::{Note, Remedy};
@@ -62,9 +63,14 @@ pub(super) struct FitArgs {
     merl: Option<PathBuf>,
     /// A picture of a painted or photographed sphere, or a MatCap (PNG, JPEG, EXR; the disk
     /// anywhere, on a transparent or plain background): its scene is built, and written as
-    /// MAT/scene.gltf.
-    #[arg(long, value_name = "IMAGE", conflicts_with_all = ["scene", "normals", "photos"])]
-    lit_sphere: Option<PathBuf>,
+    /// MAT/scene.gltf. Several pictures, or a folder (its PNG, JPEG and EXR files), make a
+    /// library: --out LIB gets LIB/NAME/ per picture, LIB/gallery.png and LIB/index.html.
+    #[arg(long, value_name = "IMAGE|DIR", num_args = 1.., conflicts_with_all = ["scene", "normals", "photos"])]
+    lit_sphere: Vec<PathBuf>,
+    /// With --lit-sphere: the longest side a picture is fitted at, 16 to 4096 pixels (a
+    /// larger one is box-filtered down). Default 512 for one picture, 256 for a library.
+    #[arg(long, value_name = "N", requires = "lit_sphere")]
+    max_side: Option<usize>,
     /// With --lit-sphere: the direction towards the light, X,Y,Z in the picture's frame (x
     /// right, y up, z towards the viewer); estimated from the shading when not given.
     /// With --normals: the light of the preceding --image, X,Y,Z towards it in the normal
@@ -178,7 +184,7 @@ const MAX_ERODE: i64 = 64;
 
 /// Checks the flags against each other and builds the pipeline's options.
 fn options(args: &FitArgs) -> Result<Options> {
-    if args.kind != KindArg::Uniform && (args.merl.is_some() || args.lit_sphere.is_some()) {
+    if args.kind != KindArg::Uniform && (args.merl.is_some() || !args.lit_sphere.is_empty()) {
         return Err(Error::input(
             "--kind other than uniform needs paintings of a mesh with texture coordinates, not --merl or --lit-sphere",
         ));
@@ -207,6 +213,9 @@ fn options(args: &FitArgs) -> Result<Options> {
         Some(MapFitArg::Greedy) => map::Method::Greedy,
         Some(MapFitArg::Cluster) | None => map::Method::Cluster,
     };
+    if let Some(n) = args.max_side.filter(|n| !(litsphere::MIN_SIDE..=4096).contains(n)) {
+        return Err(Error::input(format!("--max-side {n}: give {} to 4096 pixels", litsphere::MIN_SIDE)));
+    }
     if !(0..=MAX_ERODE).contains(&args.erode) {
         return Err(Error::input(format!("--erode {}: give 0 to {MAX_ERODE} pixels", args.erode)));
     }
@@ -219,10 +228,10 @@ pub(super) fn run(args: FitArgs) -> std::result::Result<(), Failure> {
     if let Some(flag) = args.map.stray_flag().filter(|_| !photographs) {
         return Err(Failure::Usage(format!("{flag} applies to photographs: give --normals N or --photos DIR")));
     }
-    if args.lit_sphere.is_some() && (args.light.len() > 1 || args.light.iter().any(|l| l.rgb.is_some())) {
-        return Err(Failure::Usage("--lit-sphere takes one --light X,Y,Z (its colour comes from the picture)".into()));
+    if !args.lit_sphere.is_empty() && (args.light.len() > 1 || args.light.iter().any(|l| l.rgb.is_some())) {
+        return Err(Failure::Usage("--lit-sphere takes one --light X,Y,Z (its colour comes from the picture; with several pictures it lights them all)".into()));
     }
-    if !args.light.is_empty() && args.lit_sphere.is_none() && !photographs {
+    if !args.light.is_empty() && args.lit_sphere.is_empty() && !photographs {
         return Err(Failure::Usage("--light applies to --lit-sphere and to photographs (--normals N --image P --light X,Y,Z)".into()));
     }
     if photographs {
@@ -230,7 +239,7 @@ pub(super) fn run(args: FitArgs) -> std::result::Result<(), Failure> {
         let (views, notes) = photos::load(&input, erosion(&args))?;
         return Ok(fit_and_save(&args, &opts, &views, notes, &input.files())?);
     }
-    match (&args.merl, &args.lit_sphere) {
+    match (&args.merl, args.lit_sphere.as_slice()) {
         // Dense MERL-style sampling shows every θ_d, but its factor is added only when asked
         // for: it lowers the median of the MERL set and loses a third of its materials by more
         // than 10% (BENCHMARKS.md, "Automatic θ_d").
@@ -241,8 +250,17 @@ pub(super) fn run(args: FitArgs) -> std::result::Result<(), Failure> {
             };
             Ok(run_merl(merl, &args, &settings)?)
         }
-        (None, Some(image)) => Ok(run_lit_sphere(image, &args, &opts)?),
-        (None, None) => {
+        (None, [_, ..]) => {
+            let inputs = library::gather(&args.lit_sphere)?;
+            match inputs.pictures.as_slice() {
+                [one] if !inputs.is_library() => Ok(run_lit_sphere(&one.path, &args, &opts)?),
+                _ => {
+                    let max_side = args.max_side.unwrap_or(super::library::MAX_SIDE);
+                    Ok(super::library::run(&inputs, args.light.first().map(|l| l.direction), &opts, max_side, &args.out)?)
+                }
+            }
+        }
+        (None, []) => {
             if args.scene.len() != args.image.len() {
                 return Err(Failure::Usage(format!(
                     "{} --scene and {} --image: give one --image after each --scene",
@@ -288,7 +306,8 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
 /// write the material with its report and the scene it was fitted in.
 fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
     let light = args.light.first().map(|l| l.direction);
-    let lit = litsphere::fit(image, light, opts, Cache::user().as_ref())?;
+    let max_side = args.max_side.unwrap_or(litsphere::MAX_SIDE);
+    let lit = litsphere::fit_sized(image, light, opts, Cache::user().as_ref(), max_side)?;
     let d = &lit.disk;
     let how = match lit.outline {
         litsphere::Outline::Alpha => "its alpha",
@@ -320,12 +339,7 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
     for note in &fitted.notes {
         say(note);
     }
-    let views = std::slice::from_ref(&lit.view);
-    // The scene goes into the material directory with it, in one commit.
-    let mut staged = fitted.stage(views, &args.out)?;
-    staged.write("scene.gltf", |p| lit.scene.write_gltf(p))?;
-    staged.keep_inputs([image]);
-    staged.commit()?;
+    lit.save(image, &args.out)?;
     let (report_path, scene_path) = (args.out.join("report.png"), args.out.join("scene.gltf"));
     let e = fitted.errors();
     print_mappings(&fitted.solved.fit);

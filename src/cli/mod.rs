@@ -6,6 +6,7 @@ mod bench;
 mod demo;
 mod export;
 mod fit;
+mod library;
 mod photos;
 mod render;
 mod sheet;

@@ -6,13 +6,15 @@ use std::time::Duration;
 use brdfpaint::error::{Error, Result};
 use brdfpaint::images::env::{bundled, Environment, BUNDLED};
 use brdfpaint::images::tone::Tonemap;
+use brdfpaint::library;
 use brdfpaint::material::Material;
 use brdfpaint::scene::model_meshes;
 use brdfpaint::viewer::{self, EnvStart, Mode, Options, Start};
 
 #[derive(clap::Args)]
 pub(super) struct ViewArgs {
-    /// A material directory to show (default: the fit of the bundled example painting).
+    /// A material directory to show (default: the fit of the bundled example painting), or a
+    /// library (`fit --lit-sphere DIR/ --out LIB`) to step through with Page Up / Page Down.
     #[arg(value_name = "MAT")]
     material: Option<PathBuf>,
     /// The model to show it on: a .glb/.gltf file or a built-in name (sphere, bunny, suzanne,
@@ -87,9 +89,11 @@ pub(super) fn run(args: ViewArgs) -> Result<()> {
     if !(16..=4096).contains(&args.size) {
         return Err(Error::input(format!("painting size {} is outside 16..=4096", args.size)));
     }
-    let material = match &args.material {
-        Some(p) => Some((p.display().to_string(), Material::load(p)?)),
-        None => None,
+    let is_library = args.material.as_deref().is_some_and(|p| p.join(library::MANIFEST).is_file() && !p.join("material.json").exists());
+    let (material, library) = match &args.material {
+        Some(p) if is_library => (None, Some(open_library(p)?)),
+        Some(p) => (Some((p.display().to_string(), Material::load(p)?)), None),
+        None => (None, None),
     };
     let model = (args.model.clone(), model_meshes(&args.model)?);
     model_meshes(&args.paint_model)?;
@@ -145,7 +149,24 @@ pub(super) fn run(args: ViewArgs) -> Result<()> {
         uv: args.uv,
     };
     let hold = if args.hold.is_finite() && args.hold > 0.0 { Duration::from_secs_f64(args.hold.min(3600.0)) } else { Duration::ZERO };
-    viewer::run(Options { start, lit_sphere, env, window, frames: args.frames.map(|n| n.max(1)), screenshot: args.screenshot, hold })
+    viewer::run(Options { start, lit_sphere, env, library, window, frames: args.frames.map(|n| n.max(1)), screenshot: args.screenshot, hold })
+}
+
+/// The materials of the library at `dir` (`fit --lit-sphere DIR/ --out LIB`), in its
+/// gallery's order. A material that no longer loads is one line and left out.
+fn open_library(dir: &std::path::Path) -> Result<(String, Vec<(String, Material)>)> {
+    let manifest = library::Manifest::read(dir)?;
+    let mut materials = Vec::new();
+    for entry in &manifest.materials {
+        match Material::load(&dir.join(&entry.name)) {
+            Ok(m) => materials.push((entry.name.clone(), m)),
+            Err(e) => eprintln!("note: {e} (left out of the library)"),
+        }
+    }
+    if materials.is_empty() {
+        return Err(Error::input(format!("{}: none of the library's materials loads", dir.display())));
+    }
+    Ok((dir.display().to_string(), materials))
 }
 
 /// Loads `view --scene`'s scene. A scene without a camera or light gets `view`'s own way

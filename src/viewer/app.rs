@@ -33,6 +33,8 @@ pub struct Options {
     pub lit_sphere: Option<crate::live::SphereSession>,
     /// `view --env`: an environment to start with.
     pub env: Option<EnvStart>,
+    /// `view LIB/`: a library's name and its materials, in order, to step through.
+    pub library: Option<(String, Vec<(String, crate::material::Material)>)>,
     /// Initial window size, physical pixels.
     pub window: [u32; 2],
     /// Exit after this many frames (tests).
@@ -64,6 +66,8 @@ pub struct ScreenshotInfo {
     pub light_intensity: f32,
     pub model: String,
     pub material: String,
+    /// The window's title (it names the material shown).
+    pub title: String,
     /// sRGB-encoded background of the 3D view, 0..255.
     pub background: [u8; 3],
     pub frames: u64,
@@ -132,6 +136,13 @@ struct Running {
     gl_version: String,
     last_camera: Option<(Camera, Light)>,
     repaint_at: Arc<Mutex<Option<Instant>>>,
+    /// The window's title now.
+    title: String,
+}
+
+/// The window's title: the material shown, then the tool.
+fn window_title(material: &str) -> String {
+    format!("{material} — brdfpaint")
 }
 
 impl ApplicationHandler for App {
@@ -323,6 +334,9 @@ impl Running {
         if let Some(env) = options.env {
             studio.start_environment(&renderer, env)?;
         }
+        if let Some((name, materials)) = options.library {
+            studio.open_library(&name, materials);
+        }
         window.set_visible(true);
         window.request_redraw();
         Ok(Running {
@@ -343,6 +357,7 @@ impl Running {
             gl_version,
             last_camera: None,
             repaint_at,
+            title: "brdfpaint".into(),
         })
     }
 
@@ -359,6 +374,11 @@ impl Running {
         let (studio, renderer) = (&mut self.studio, &mut self.renderer);
         self.egui.run(&self.window, |ui| studio.ui(renderer, ui));
         self.studio.after(&mut self.renderer);
+        let title = window_title(self.studio.material_name());
+        if title != self.title {
+            self.window.set_title(&title);
+            self.title = title;
+        }
 
         let size = self.window.inner_size();
         let (w, h) = (size.width.max(1), size.height.max(1));
@@ -443,6 +463,7 @@ impl Running {
             light_intensity: intensity,
             model: self.studio.model_name().to_string(),
             material: self.studio.material_name().to_string(),
+            title: self.title.clone(),
             background: b,
             frames: self.frames,
             environment: self.studio.environment().name().to_string(),

@@ -86,6 +86,20 @@ impl Catalogue {
         self.material = self.materials.len() - 1;
     }
 
+    /// Shows the next stored material (`delta` 1) or the previous one (-1), around the list;
+    /// from the live painting's, the first or the last.
+    pub fn step(&mut self, delta: isize) {
+        let stored = self.materials.len() - 1;
+        if stored == 0 {
+            return;
+        }
+        self.material = match self.material {
+            0 if delta > 0 => 1,
+            0 => stored,
+            k => 1 + (k as isize - 1 + delta).rem_euclid(stored as isize) as usize,
+        };
+    }
+
     /// Adds a model (not shown yet); its index.
     pub fn add_model(&mut self, name: String, meshes: Vec<CpuMesh>) -> usize {
         self.models.push(ModelEntry { name, meshes: self.uv.apply(meshes).0 });

@@ -363,7 +363,24 @@ impl Studio {
             Shortcut::Tool(t) => self.tools.tool = t,
             Shortcut::Smaller => self.tools.smaller(),
             Shortcut::Larger => self.tools.larger(),
+            Shortcut::NextMaterial | Shortcut::PreviousMaterial => {
+                self.catalogue.step(if s == Shortcut::NextMaterial { 1 } else { -1 });
+                self.shown_material_changed();
+            }
         }
+    }
+
+    /// Opens a library (`view LIB/`, its materials in order): the first is shown, and Page
+    /// Up / Page Down (or ← / →) step through them.
+    pub fn open_library(&mut self, name: &str, materials: Vec<(String, Material)>) {
+        let count = materials.len();
+        let first = self.catalogue.materials.len();
+        for (n, m) in materials {
+            self.catalogue.add_material(n, m);
+        }
+        self.catalogue.material = first.min(self.catalogue.materials.len() - 1);
+        self.shown_material_changed();
+        self.note(format!("library {name}: {count} materials; Page Up / Page Down (or ← / →) step through them"));
     }
 
     /// Builds the whole UI for one frame.

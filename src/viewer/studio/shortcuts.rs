@@ -25,6 +25,10 @@ pub enum Shortcut {
     Smaller,
     /// `]`.
     Larger,
+    /// Page Down or →: the next material of the list (a library's).
+    NextMaterial,
+    /// Page Up or ←.
+    PreviousMaterial,
 }
 
 /// The shortcut a key press is, if any.
@@ -41,6 +45,8 @@ fn shortcut(key: Key, m: Modifiers, repeat: bool) -> Option<Shortcut> {
         Key::F if plain && !repeat => Some(Shortcut::Tool(Tool::Fill)),
         Key::OpenBracket if plain => Some(Shortcut::Smaller),
         Key::CloseBracket if plain => Some(Shortcut::Larger),
+        Key::PageDown | Key::ArrowRight if plain && !m.shift => Some(Shortcut::NextMaterial),
+        Key::PageUp | Key::ArrowLeft if plain && !m.shift => Some(Shortcut::PreviousMaterial),
         _ => None,
     }
 }
