@@ -250,53 +250,131 @@ pub(super) fn run(args: RenderArgs) -> std::result::Result<(), Failure> {
     if let Some(flag) = args.map.stray_flag() {
         return Err(Failure::Usage(format!("{flag} applies to renders over a normal map (--normals)")));
     }
-    let format = match args.out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
-        Some("png") => Format::Png,
-        Some("exr") => Format::Exr,
-        _ => {
-            return Err(Error::input(format!("{}: the output must be a .png or .exr file", args.out.display())).into());
+    let output = Output::check(&args)?;
+    let environment = args.env.as_deref().map(Environment::load).transpose()?;
+    let (orbit, frames) = orbit_of(&args)?;
+    let (material, json) = load_material(&args.material)?;
+    let resolved = scene_for(&args, &material, &json)?;
+    let sequence = orbit.map(|_| sequence_of(&args.out));
+    let paths = frame_paths(&args.out, sequence.as_ref(), frames);
+    let job = Job { output, environment, orbit, frames, material, resolved };
+    job.draw(&paths, sequence)?;
+    println!("{}", job.report(&args, &paths));
+    Ok(())
+}
+
+/// The checked options of a scene render that shape its image: file format, background,
+/// exposure, tone mapping, and how an environment lights it.
+struct Output {
+    format: Format,
+    background: Option<BackgroundArg>,
+    ev: f32,
+    tonemap: Option<Tonemap>,
+    rotate_deg: f32,
+    samples: usize,
+    key_light: bool,
+}
+
+impl Output {
+    fn check(args: &RenderArgs) -> std::result::Result<Output, Failure> {
+        let format = match args.out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+            Some("png") => Format::Png,
+            Some("exr") => Format::Exr,
+            _ => {
+                return Err(Error::input(format!("{}: the output must be a .png or .exr file", args.out.display())).into());
+            }
+        };
+        let background = args.background.as_deref().map(parse_background).transpose().map_err(Failure::Usage)?;
+        if background == Some(BackgroundArg::Environment) && args.env.is_none() {
+            return Err(Failure::Usage("--background env needs --env".into()));
         }
-    };
-    let background = args.background.as_deref().map(parse_background).transpose().map_err(Failure::Usage)?;
-    if background == Some(BackgroundArg::Environment) && args.env.is_none() {
-        return Err(Failure::Usage("--background env needs --env".into()));
+        let ev = exposure(args)?;
+        let tonemap = match (format, args.tonemap.as_deref()) {
+            (Format::Exr, Some(_)) => {
+                return Err(Failure::Usage("--tonemap applies to PNG output; an EXR stays linear".into()));
+            }
+            (Format::Exr, None) => None,
+            (Format::Png, Some(name)) => Some(Tonemap::parse(name)?),
+            (Format::Png, None) => Some(if args.env.is_some() { Tonemap::Neutral } else { Tonemap::None }),
+        };
+        let rotate_deg = args.env_rotate.unwrap_or(0.0);
+        if !rotate_deg.is_finite() {
+            return Err(Failure::Usage(format!("--env-rotate {rotate_deg}: give an angle in degrees")));
+        }
+        let samples = args.env_samples.unwrap_or(DEFAULT_SAMPLES);
+        if !SAMPLES.contains(&samples) {
+            return Err(Failure::Usage(format!(
+                "--env-samples {samples}: give {} to {} directions per pixel",
+                SAMPLES.start(),
+                SAMPLES.end()
+            )));
+        }
+        let key_light = args.key_light.as_deref() != Some("off");
+        Ok(Output { format, background, ev, tonemap, rotate_deg, samples, key_light })
     }
+
+    /// How `environment` lights the scene and what shows behind the object.
+    fn lighting<'a>(&self, environment: &'a GpuEnvironment) -> Lighting<'a> {
+        Lighting {
+            environment,
+            rotate_deg: self.rotate_deg,
+            key_light: self.key_light,
+            background: match self.background {
+                Some(BackgroundArg::Color(c)) => Background::Color(c),
+                _ => Background::Environment,
+            },
+            samples: self.samples,
+        }
+    }
+
+    /// How frames become files; `lit`: under an environment, which draws the background itself.
+    fn develop(&self, lit: bool) -> Develop {
+        Develop {
+            background: match (lit, self.background) {
+                (false, Some(BackgroundArg::Color(c))) => Some(c),
+                _ => None,
+            },
+            scale: exposure_scale(self.ev),
+            tonemap: self.tonemap,
+        }
+    }
+}
+
+/// `--exposure`, in stops, within [`MAX_EV`] either way (default 0).
+fn exposure(args: &RenderArgs) -> std::result::Result<f32, Failure> {
     let ev = args.exposure.unwrap_or(0.0);
     if !(ev.is_finite() && ev.abs() <= MAX_EV) {
         return Err(Failure::Usage(format!("--exposure {ev}: give a number of stops from -{MAX_EV} to {MAX_EV}")));
     }
-    let tonemap = match (format, args.tonemap.as_deref()) {
-        (Format::Exr, Some(_)) => {
-            return Err(Failure::Usage("--tonemap applies to PNG output; an EXR stays linear".into()));
-        }
-        (Format::Exr, None) => None,
-        (Format::Png, Some(name)) => Some(Tonemap::parse(name)?),
-        (Format::Png, None) => Some(if args.env.is_some() { Tonemap::Neutral } else { Tonemap::None }),
-    };
-    let rotate_deg = args.env_rotate.unwrap_or(0.0);
-    if !rotate_deg.is_finite() {
-        return Err(Failure::Usage(format!("--env-rotate {rotate_deg}: give an angle in degrees")));
-    }
-    let samples = args.env_samples.unwrap_or(DEFAULT_SAMPLES);
-    if !SAMPLES.contains(&samples) {
-        return Err(Failure::Usage(format!(
-            "--env-samples {samples}: give {} to {} directions per pixel",
-            SAMPLES.start(),
-            SAMPLES.end()
-        )));
-    }
-    let environment = args.env.as_deref().map(Environment::load).transpose()?;
+    Ok(ev)
+}
+
+/// The sequence asked for (`--turntable`, `--light-sweep`), if any, and its frames: 1 for a
+/// single image.
+fn orbit_of(args: &RenderArgs) -> Result<(Option<Orbit>, usize)> {
     let (orbit, frames) = match (args.turntable, args.light_sweep) {
         (Some(n), _) => (Some(Orbit::Camera), n),
         (None, Some(n)) => (Some(Orbit::Light), n),
         (None, None) => (None, 1),
     };
     if orbit.is_some() && !(1..=MAX_FRAMES).contains(&frames) {
-        return Err(Error::input(format!("a sequence needs 1 to {MAX_FRAMES} frames, not {frames}")).into());
+        return Err(Error::input(format!("a sequence needs 1 to {MAX_FRAMES} frames, not {frames}")));
     }
-    let material = Material::load(&args.material)?;
-    let json = if args.material.is_dir() { args.material.join("material.json") } else { args.material.clone() };
+    Ok((orbit, frames))
+}
+
+/// The material at `path`, checked to be one the renderer draws, and its material.json (what
+/// errors about it name).
+fn load_material(path: &Path) -> Result<(Material, PathBuf)> {
+    let material = Material::load(path)?;
+    let json = if path.is_dir() { path.join("material.json") } else { path.to_path_buf() };
     brdfpaint::render::check(&material).map_err(|e| Error::format(&json, e.to_string()))?;
+    Ok((material, json))
+}
+
+/// The scene, its meshes given texture coordinates by `--uv`, checked to have them where
+/// `material` (its material.json `json`) looks them up.
+fn scene_for(args: &RenderArgs, material: &Material, json: &Path) -> Result<Resolved> {
     let Resolved { mut scene, width, height, name } = args.scene.resolve()?;
     let (meshes, note) = args.uv.apply(std::mem::take(&mut scene.meshes));
     scene.meshes = meshes;
@@ -305,79 +383,87 @@ pub(super) fn run(args: RenderArgs) -> std::result::Result<(), Failure> {
             return Err(Error::input(format!(
                 "{}: the material looks up texture coordinates (a uv factor or coefficient textures) but mesh {k} of {name} has none; give --uv spherical or --uv box",
                 json.display()
-            ))
-            .into());
+            )));
         }
         if let Some(note) = note {
             eprintln!("note: {name}: {note} (--uv chooses the projection)");
         }
     }
+    Ok(Resolved { scene, width, height, name })
+}
 
-    let sequence = orbit.map(|_| sequence_of(&args.out));
-    let paths: Vec<PathBuf> = match &sequence {
-        None => vec![args.out.clone()],
-        Some(sequence) => (0..frames).map(|k| args.out.with_file_name(sequence.name(k, frames))).collect(),
-    };
-    let ctx = HeadlessContext::new()?;
-    let mut renderer = Renderer::new(ctx.gl())?;
-    let gpu_shading = renderer.upload(&material)?;
-    let mut gpu = GpuScene::upload(ctx.gl(), &scene)?;
-    let centre = orbit_centre(&scene);
-    let gpu_env = environment.as_ref().map(|e| GpuEnvironment::upload(ctx.gl(), e)).transpose()?;
-    let lighting = gpu_env.as_ref().map(|environment| Lighting {
-        environment,
-        rotate_deg,
-        key_light: args.key_light.as_deref() != Some("off"),
-        background: match background {
-            Some(BackgroundArg::Color(c)) => Background::Color(c),
-            _ => Background::Environment,
-        },
-        samples,
-    });
-    let develop = Develop {
-        background: match (lighting, background) {
-            (None, Some(BackgroundArg::Color(c))) => Some(c),
-            _ => None,
-        },
-        scale: exposure_scale(ev),
-        tonemap,
-    };
-
-    // Frames go to hidden temporary names and are committed together when all are written:
-    // a sequence appears whole or not at all (brdfpaint::commit::StagedFiles).
-    let mut staged = match sequence {
-        None => brdfpaint::commit::StagedFiles::new(),
-        Some(sequence) => brdfpaint::commit::StagedFiles::sequence(sequence),
-    };
-    for (k, path) in paths.iter().enumerate() {
-        if let Some(orbit) = orbit {
-            (gpu.camera, gpu.light) = orbit_frame(&scene.camera, &scene.light, centre, orbit, k, frames);
-        }
-        let frame = match &lighting {
-            Some(lighting) => renderer.lit(&gpu, &gpu_shading, lighting, width, height)?,
-            None => renderer.factored(&gpu, &gpu_shading, width, height)?,
-        };
-        let image = develop.apply(&frame);
-        staged.add(path, |tmp| match format {
-            Format::Png => image.write_png(tmp),
-            Format::Exr => image.write_exr(tmp),
-        })?;
+/// The files written: `out`, or one per frame of `sequence`.
+fn frame_paths(out: &Path, sequence: Option<&brdfpaint::commit::Sequence>, frames: usize) -> Vec<PathBuf> {
+    match sequence {
+        None => vec![out.to_path_buf()],
+        Some(sequence) => (0..frames).map(|k| out.with_file_name(sequence.name(k, frames))).collect(),
     }
-    staged.commit()?;
-    let lit = match &args.env {
-        Some(e) => format!(" under {}", e.display()),
-        None => String::new(),
-    };
-    let what = match orbit {
-        None => String::new(),
-        Some(Orbit::Camera) => format!(", turntable of {frames} frames"),
-        Some(Orbit::Light) => format!(", light sweep of {frames} frames"),
-    };
-    let first = paths[0].display();
-    let outputs =
-        if paths.len() == 1 { first.to_string() } else { format!("{first} ... {}", paths[paths.len() - 1].display()) };
-    println!("rendered {} on {name}{lit} at {width}x{height}{what}: {outputs}", args.material.display());
-    Ok(())
+}
+
+/// A scene render, checked and loaded: what [`run`] draws.
+struct Job {
+    output: Output,
+    environment: Option<Environment>,
+    orbit: Option<Orbit>,
+    frames: usize,
+    material: Material,
+    resolved: Resolved,
+}
+
+impl Job {
+    /// Draws each frame and writes it to its path in `paths`.
+    fn draw(&self, paths: &[PathBuf], sequence: Option<brdfpaint::commit::Sequence>) -> Result<()> {
+        let Resolved { scene, width, height, .. } = &self.resolved;
+        let ctx = HeadlessContext::new()?;
+        let mut renderer = Renderer::new(ctx.gl())?;
+        let gpu_shading = renderer.upload(&self.material)?;
+        let mut gpu = GpuScene::upload(ctx.gl(), scene)?;
+        let centre = orbit_centre(scene);
+        let gpu_env = self.environment.as_ref().map(|e| GpuEnvironment::upload(ctx.gl(), e)).transpose()?;
+        let lighting = gpu_env.as_ref().map(|environment| self.output.lighting(environment));
+        let develop = self.output.develop(lighting.is_some());
+
+        // Frames go to hidden temporary names and are committed together when all are written:
+        // a sequence appears whole or not at all (brdfpaint::commit::StagedFiles).
+        let mut staged = match sequence {
+            None => brdfpaint::commit::StagedFiles::new(),
+            Some(sequence) => brdfpaint::commit::StagedFiles::sequence(sequence),
+        };
+        for (k, path) in paths.iter().enumerate() {
+            if let Some(orbit) = self.orbit {
+                (gpu.camera, gpu.light) = orbit_frame(&scene.camera, &scene.light, centre, orbit, k, self.frames);
+            }
+            let frame = match &lighting {
+                Some(lighting) => renderer.lit(&gpu, &gpu_shading, lighting, *width, *height)?,
+                None => renderer.factored(&gpu, &gpu_shading, *width, *height)?,
+            };
+            let image = develop.apply(&frame);
+            staged.add(path, |tmp| match self.output.format {
+                Format::Png => image.write_png(tmp),
+                Format::Exr => image.write_exr(tmp),
+            })?;
+        }
+        staged.commit()
+    }
+
+    /// The line [`run`] prints: what was rendered on what, and the files written (`paths`).
+    fn report(&self, args: &RenderArgs, paths: &[PathBuf]) -> String {
+        let Resolved { width, height, name, .. } = &self.resolved;
+        let frames = self.frames;
+        let lit = match &args.env {
+            Some(e) => format!(" under {}", e.display()),
+            None => String::new(),
+        };
+        let what = match self.orbit {
+            None => String::new(),
+            Some(Orbit::Camera) => format!(", turntable of {frames} frames"),
+            Some(Orbit::Light) => format!(", light sweep of {frames} frames"),
+        };
+        let first = paths[0].display();
+        let outputs =
+            if paths.len() == 1 { first.to_string() } else { format!("{first} ... {}", paths[paths.len() - 1].display()) };
+        format!("rendered {} on {name}{lit} at {width}x{height}{what}: {outputs}", args.material.display())
+    }
 }
 
 /// `render MAT --normals N --light L`: only the exposure applies of the scene options.
@@ -393,10 +479,7 @@ fn run_photo(args: RenderArgs) -> std::result::Result<(), Failure> {
     if let Some((_, flag)) = scene_only.iter().find(|(given, _)| *given) {
         return Err(Failure::Usage(format!("{flag} applies to scene renders, not to --normals")));
     }
-    let ev = args.exposure.unwrap_or(0.0);
-    if !(ev.is_finite() && ev.abs() <= MAX_EV) {
-        return Err(Failure::Usage(format!("--exposure {ev}: give a number of stops from -{MAX_EV} to {MAX_EV}")));
-    }
+    let ev = exposure(&args)?;
     super::photos::render(&args.material, &args.map, args.light.as_deref(), args.scene.size.as_deref(), exposure_scale(ev), &args.out)
 }
 

@@ -202,103 +202,30 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
 
     // 1. The sheets of the painted views.
     let t = Instant::now();
-    let views = paintings::views();
-    let mut scene_paths = Vec::new();
-    for (k, view) in views.iter().enumerate() {
-        let scene = paintings::view_scene(k)?;
-        let sheet = Sheet::render(sampler.renderer(), &scene, SIZE, SIZE)?;
-        let path = tmp.join(view.dir);
-        sheet.save(&scene, &path)?;
-        scene_paths.push(path.join("scene.gltf"));
-    }
+    let scene_paths = sheets(&mut sampler, tmp)?;
     stages.sheets = t.elapsed().as_secs_f64();
 
     // 2-3. The paintings, fitted as `brdfpaint fit` fits them.
     let t = Instant::now();
     let specs = paintings::materials();
-    let settings = Settings::uniform(1, defaults::RES_1D);
-    let paintings_dir = tmp.join("paintings");
-    std::fs::create_dir_all(&paintings_dir).map_err(|e| Error::io(&paintings_dir, e))?;
-    for spec in &specs {
-        for p in &spec.paintings {
-            let path = paintings_dir.join(p.file);
-            if !path.exists() {
-                crate::commit::write_atomic(&path, p.bytes)?;
-            }
-        }
-    }
-    let mut fitted = Vec::new();
-    for spec in &specs {
-        fitted.push(fit_material(&mut sampler, spec, tmp, &scene_paths, &settings, cache)?);
-    }
+    let fitted = fit_materials(&mut sampler, &specs, tmp, &scene_paths, cache)?;
     stages.fits = t.elapsed().as_secs_f64();
 
     // Held-out lights and views: the truth against the material where nobody painted.
     let t = Instant::now();
-    let held: Vec<StudyView> =
-        held_out_presets().iter().map(|p| StudyView::new(&mut sampler, p, HELD_OUT_SIZE)).collect::<Result<_>>()?;
-    let mut rows = Vec::new();
-    for (spec, f) in specs.iter().zip(&fitted) {
-        // A spatially varying material is known only where it was painted: it is judged on
-        // the held-out pixels whose surface point some painting saw (a held-out view of the
-        // back of the sphere shows stripes nobody painted).
-        let painted = spec.truth.is_spatial().then(|| Coverage::of(&f.views));
-        let judge = |m: &Material| -> Result<Option<f64>> {
-            spec.truth.known().map(|t| held_out_error(m, t, &held, painted.as_ref())).transpose()
-        };
-        let held_out = judge(&f.material)?;
-        let uniform_held_out = match &f.uniform {
-            Some(u) => judge(u)?,
-            None => None,
-        };
-        rows.push(Row { held_out, uniform_held_out, ..f.row.clone() });
-    }
+    let rows = held_out_rows(&mut sampler, &specs, &fitted)?;
     stages.held_out = t.elapsed().as_secs_f64();
 
     // 4. Renders: on the painted sphere, seen from the view (and under the light) of the
     // painting the contact sheet shows beside it, and retargeted.
     let t = Instant::now();
-    let renders_dir = tmp.join("renders");
-    std::fs::create_dir_all(&renders_dir).map_err(|e| Error::io(&renders_dir, e))?;
-    let mut scenes: Vec<Scene> = scene_paths.iter().map(Scene::load).collect::<Result<_>>()?;
-    for r in retargets() {
-        scenes.push(frame(UvRule::Auto.apply(builtin_model(r.model)?).0, &r.preset, 1.0));
-    }
-    let renderer = sampler.renderer();
-    let gpu_scenes: Vec<GpuScene> = scenes.iter().map(|s| GpuScene::upload(renderer.gl(), s)).collect::<Result<_>>()?;
-    let mut renders: Vec<Vec<Image>> = Vec::new();
-    for (spec, f) in specs.iter().zip(&fitted) {
-        let gpu = renderer.upload(&f.material)?;
-        let own = f.scene.as_ref().map(|s| GpuScene::upload(renderer.gl(), s)).transpose()?;
-        let sphere = (own.as_ref().unwrap_or(&gpu_scenes[shown_view(spec)]), "sphere");
-        let retargeted = gpu_scenes[views.len()..].iter().zip(retargets()).map(|(s, r)| (s, r.model));
-        let mut row = Vec::new();
-        for (scene, model) in std::iter::once(sphere).chain(retargeted) {
-            let image = renderer.factored(scene, &gpu, SIZE, SIZE)?;
-            image.to_rgb().write_png(&renders_dir.join(format!("{}-{model}.png", spec.name)))?;
-            row.push(image);
-        }
-        renders.push(row);
-    }
+    let (gpu_scenes, renders) = renders(sampler.renderer(), &specs, &fitted, &scene_paths, tmp)?;
     stages.renders = t.elapsed().as_secs_f64();
 
     // 5. The contact sheet: each row's painting is its last view's, beside the fit seen
     // from that view under that view's light.
     let t = Instant::now();
-    let columns = contact_columns();
-    let sheet_rows: Vec<contact::Row> = specs
-        .iter()
-        .zip(&fitted)
-        .zip(&renders)
-        .map(|((spec, f), r)| contact::Row {
-            name: spec.name.to_string(),
-            caption: contact_caption(spec, &f.row.description),
-            tiles: std::iter::once(contact::Tile::Painting(f.last_painting())).chain(r.iter().map(contact::Tile::Render)).collect(),
-        })
-        .collect();
-    let sheet = contact::compose(SIZE, &columns.each_ref().map(String::as_str), &sheet_rows)?;
-    sheet.write_png(&tmp.join("contact.png"))?;
-    contact::downsample(&sheet, 2)?.write_png(&tmp.join("contact-small.png"))?;
+    contact_sheet(&specs, &fitted, &renders, tmp)?;
     stages.contact = t.elapsed().as_secs_f64();
 
     // 6. Under the bundled environments.
@@ -313,6 +240,124 @@ fn run_into(tmp: &Path, dir: &Path, cache: Option<&Cache>) -> Result<Report> {
     let summary = summary(&rows, &stages, dir, cache, total_s);
     crate::commit::write_atomic(&tmp.join("summary.txt"), summary.as_bytes())?;
     Ok(Report { rows, summary, total_s })
+}
+
+/// Renders and saves the sheet of each painted view into `tmp`; returns their scene.gltf
+/// paths, in view order.
+fn sheets(sampler: &mut SceneSampler, tmp: &Path) -> Result<Vec<PathBuf>> {
+    let mut scene_paths = Vec::new();
+    for (k, view) in paintings::views().iter().enumerate() {
+        let scene = paintings::view_scene(k)?;
+        let sheet = Sheet::render(sampler.renderer(), &scene, SIZE, SIZE)?;
+        let path = tmp.join(view.dir);
+        sheet.save(&scene, &path)?;
+        scene_paths.push(path.join("scene.gltf"));
+    }
+    Ok(scene_paths)
+}
+
+/// Writes the bundled paintings into `tmp/paintings/` and fits each material of `specs`
+/// from them ([`fit_material`]).
+fn fit_materials(
+    sampler: &mut SceneSampler,
+    specs: &[MaterialSpec],
+    tmp: &Path,
+    scene_paths: &[PathBuf],
+    cache: Option<&Cache>,
+) -> Result<Vec<Fitted>> {
+    let settings = Settings::uniform(1, defaults::RES_1D);
+    let paintings_dir = tmp.join("paintings");
+    std::fs::create_dir_all(&paintings_dir).map_err(|e| Error::io(&paintings_dir, e))?;
+    for spec in specs {
+        for p in &spec.paintings {
+            let path = paintings_dir.join(p.file);
+            if !path.exists() {
+                crate::commit::write_atomic(&path, p.bytes)?;
+            }
+        }
+    }
+    let mut fitted = Vec::new();
+    for spec in specs {
+        fitted.push(fit_material(sampler, spec, tmp, scene_paths, &settings, cache)?);
+    }
+    Ok(fitted)
+}
+
+/// The summary's rows: each fitted material's, with its held-out errors where the truth is
+/// known.
+fn held_out_rows(sampler: &mut SceneSampler, specs: &[MaterialSpec], fitted: &[Fitted]) -> Result<Vec<Row>> {
+    let held: Vec<StudyView> =
+        held_out_presets().iter().map(|p| StudyView::new(sampler, p, HELD_OUT_SIZE)).collect::<Result<_>>()?;
+    let mut rows = Vec::new();
+    for (spec, f) in specs.iter().zip(fitted) {
+        // A spatially varying material is known only where it was painted: it is judged on
+        // the held-out pixels whose surface point some painting saw (a held-out view of the
+        // back of the sphere shows stripes nobody painted).
+        let painted = spec.truth.is_spatial().then(|| Coverage::of(&f.views));
+        let judge = |m: &Material| -> Result<Option<f64>> {
+            spec.truth.known().map(|t| held_out_error(m, t, &held, painted.as_ref())).transpose()
+        };
+        let held_out = judge(&f.material)?;
+        let uniform_held_out = match &f.uniform {
+            Some(u) => judge(u)?,
+            None => None,
+        };
+        rows.push(Row { held_out, uniform_held_out, ..f.row.clone() });
+    }
+    Ok(rows)
+}
+
+/// Renders each fitted material on its painted sphere and on the retargets, writing
+/// `renders/NAME-MODEL.png`; returns the scenes uploaded (the painted views', then the
+/// retargets') and each material's renders, in contact-sheet order.
+fn renders(
+    renderer: &mut crate::render::Renderer,
+    specs: &[MaterialSpec],
+    fitted: &[Fitted],
+    scene_paths: &[PathBuf],
+    tmp: &Path,
+) -> Result<(Vec<GpuScene>, Vec<Vec<Image>>)> {
+    let renders_dir = tmp.join("renders");
+    std::fs::create_dir_all(&renders_dir).map_err(|e| Error::io(&renders_dir, e))?;
+    let mut scenes: Vec<Scene> = scene_paths.iter().map(Scene::load).collect::<Result<_>>()?;
+    for r in retargets() {
+        scenes.push(frame(UvRule::Auto.apply(builtin_model(r.model)?).0, &r.preset, 1.0));
+    }
+    let gpu_scenes: Vec<GpuScene> = scenes.iter().map(|s| GpuScene::upload(renderer.gl(), s)).collect::<Result<_>>()?;
+    let mut renders: Vec<Vec<Image>> = Vec::new();
+    for (spec, f) in specs.iter().zip(fitted) {
+        let gpu = renderer.upload(&f.material)?;
+        let own = f.scene.as_ref().map(|s| GpuScene::upload(renderer.gl(), s)).transpose()?;
+        let sphere = (own.as_ref().unwrap_or(&gpu_scenes[shown_view(spec)]), "sphere");
+        let retargeted = gpu_scenes[scene_paths.len()..].iter().zip(retargets()).map(|(s, r)| (s, r.model));
+        let mut row = Vec::new();
+        for (scene, model) in std::iter::once(sphere).chain(retargeted) {
+            let image = renderer.factored(scene, &gpu, SIZE, SIZE)?;
+            image.to_rgb().write_png(&renders_dir.join(format!("{}-{model}.png", spec.name)))?;
+            row.push(image);
+        }
+        renders.push(row);
+    }
+    Ok((gpu_scenes, renders))
+}
+
+/// Composes the contact sheet of the paintings and `renders`, and writes it as `contact.png`
+/// and `contact-small.png`.
+fn contact_sheet(specs: &[MaterialSpec], fitted: &[Fitted], renders: &[Vec<Image>], tmp: &Path) -> Result<()> {
+    let columns = contact_columns();
+    let sheet_rows: Vec<contact::Row> = specs
+        .iter()
+        .zip(fitted)
+        .zip(renders)
+        .map(|((spec, f), r)| contact::Row {
+            name: spec.name.to_string(),
+            caption: contact_caption(spec, &f.row.description),
+            tiles: std::iter::once(contact::Tile::Painting(f.last_painting())).chain(r.iter().map(contact::Tile::Render)).collect(),
+        })
+        .collect();
+    let sheet = contact::compose(SIZE, &columns.each_ref().map(String::as_str), &sheet_rows)?;
+    sheet.write_png(&tmp.join("contact.png"))?;
+    contact::downsample(&sheet, 2)?.write_png(&tmp.join("contact-small.png"))
 }
 
 /// Side of the environment renders, pixels: small, so the demo stays a few seconds.
@@ -484,7 +529,16 @@ fn fit_lit_sphere(spec: &MaterialSpec, tmp: &Path, settings: &Settings, cache: O
 /// The one-screen summary.
 fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, total_s: f64) -> String {
     let mut s = String::new();
-    let d = dir.display();
+    summary_header(&mut s, stages, cache);
+    summary_table(&mut s, rows);
+    summary_legend(&mut s, rows);
+    summary_timings(&mut s, stages, total_s);
+    let _ = writeln!(s, "wrote {}/: contact.png, contact-small.png, environments.png, summary.txt, sheet/, sheet-2/, paintings/, materials/, renders/", dir.display());
+    s
+}
+
+/// The summary's first lines: the mark, the sheets and factors, and the prepare cache.
+fn summary_header(s: &mut String, stages: &Stages, cache: Option<&Cache>) {
     let _ = writeln!(s, "{MARK} {}: paint a sphere, fit, retarget", env!("CARGO_PKG_VERSION"));
     let _ = writeln!(
         s,
@@ -501,6 +555,10 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
         None => writeln!(s, "no prepare cache (no home directory): every system prepared afresh"),
     };
     let _ = writeln!(s);
+}
+
+/// The summary's table: a line per fitted material.
+fn summary_table(s: &mut String, rows: &[Row]) {
     let _ = writeln!(
         s,
         "{:<18} {:<7} {:<25} {:>7} {:>8} {:>5} {:>8} {:>8} {:>6} {:>6} {:>8}",
@@ -529,6 +587,10 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
             held
         );
     }
+}
+
+/// What the table's columns mean, and what each material map gains over a uniform product.
+fn summary_legend(s: &mut String, rows: &[Row]) {
     let _ = writeln!(s);
     let _ = writeln!(s, "RMS, rel (relative RMS) and max: the fit against its painted samples (linear RGB).");
     let _ = writeln!(
@@ -544,6 +606,10 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
         }
     }
     let _ = writeln!(s, "The MatCap is fitted as a lit sphere: its light estimated from the picture.");
+}
+
+/// The renders' and stages' timings.
+fn summary_timings(s: &mut String, stages: &Stages, total_s: f64) {
     let models: Vec<String> = retargets()
         .iter()
         .map(|r| format!("{} ({})", r.model, r.preset.description.trim_start_matches("light ")))
@@ -562,8 +628,6 @@ fn summary(rows: &[Row], stages: &Stages, dir: &Path, cache: Option<&Cache>, tot
         stages.contact * 1e3,
         total_s
     );
-    let _ = writeln!(s, "wrote {d}/: contact.png, contact-small.png, environments.png, summary.txt, sheet/, sheet-2/, paintings/, materials/, renders/");
-    s
 }
 
 fn truncate(text: &str, n: usize) -> String {

@@ -149,8 +149,46 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
     if views.len() != 1 {
         return Ok(None);
     }
-    // Per view, per pixel: its tone's interval per channel.
-    let intervals: Vec<Option<Vec<Option<Bounds>>>> = views
+    let intervals = tone_intervals(views, toned);
+    let mut found: Vec<Vec<usize>> = vec![Vec::new(); views.len()];
+    let mut lit_aside = true;
+    for _ in 0..PASSES {
+        let samples = Samples::gather(views)?;
+        let n = samples.len();
+        if n == 0 {
+            break;
+        }
+        let pass = Pass::fit(views, samples, settings, &intervals)?;
+        lit_aside &= !pass.headlit;
+        let strays = pass.strays(&intervals, &found);
+        let total: usize = strays.iter().map(Vec::len).sum();
+        if total == 0 {
+            break;
+        }
+        let before: usize = found.iter().map(Vec::len).sum();
+        if (total + before) as f64 > MAX_FRACTION * (n + before) as f64 {
+            if before == 0 {
+                return Ok(None);
+            }
+            break;
+        }
+        for ((view, s), f) in views.iter_mut().zip(&strays).zip(found.iter_mut()) {
+            for &k in s {
+                view.geometry.usable[k] = false;
+            }
+            f.extend_from_slice(s);
+        }
+    }
+    if found.iter().all(Vec::is_empty) {
+        return Ok(None);
+    }
+    fill(views, &found)?;
+    Ok(Some(Strays { per_view: found, toned: lit_aside && intervals.iter().any(Option::is_some), left_out: false }))
+}
+
+/// Per view with flat tones (`toned[v]`), per pixel: its tone's interval per channel.
+fn tone_intervals(views: &[PaintedView], toned: &[Option<&Toned>]) -> Vec<Option<Vec<Option<Bounds>>>> {
+    views
         .iter()
         .enumerate()
         .map(|(v, view)| {
@@ -162,17 +200,31 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
                 at
             })
         })
-        .collect();
-    let mut found: Vec<Vec<usize>> = vec![Vec::new(); views.len()];
-    let mut lit_aside = true;
-    for _ in 0..PASSES {
-        let samples = Samples::gather(views)?;
+        .collect()
+}
+
+/// One pass of the search: the samples of the views as they stand, and how far the search's
+/// fit misses each.
+struct Pass<'a> {
+    views: &'a [PaintedView],
+    samples: Samples,
+    headlit: bool,
+    /// Per sample, the fit's largest per-channel log ratio, signed ([`search_fit`]).
+    signed: Vec<f64>,
+    /// Per sample, its absolute value.
+    miss: Vec<f64>,
+    /// Per sample of a toned view, how far the fit lies outside its tone ([`off_tone`]).
+    off: Vec<f64>,
+    /// The miss that makes a stray.
+    threshold: f64,
+}
+
+impl<'a> Pass<'a> {
+    /// Fits `samples` (gathered from `views`) as the search does, once more with the light
+    /// prior when the fit collapses.
+    fn fit(views: &'a [PaintedView], samples: Samples, settings: &Settings, intervals: &[Option<Vec<Option<Bounds>>>]) -> Result<Pass<'a>> {
         let n = samples.len();
-        if n == 0 {
-            break;
-        }
         let headlit = samples.pattern.headlit();
-        lit_aside &= !headlit;
         // As the fit has it: a headlit painting's light factor drawn to its physical shape.
         let search = settings.for_pattern(&samples.pattern);
         let peak = samples.values.iter().flatten().copied().fold(0.0, f64::max);
@@ -197,83 +249,75 @@ pub fn repaint(views: &mut [PaintedView], settings: &Settings, toned: &[Option<&
             })
             .collect();
         let threshold = (SPREAD * sigma).max(MIN_RATIO);
-        // Per view: pixel → miss, then the strays and the neighbours they grow into.
-        let mut strays: Vec<Vec<usize>> = vec![Vec::new(); views.len()];
+        Ok(Pass { views, samples, headlit, signed, miss, off, threshold })
+    }
+
+    /// Per view: the strays this pass finds, with the neighbours they grow into (`found`: the
+    /// earlier passes').
+    fn strays(&self, intervals: &[Option<Vec<Option<Bounds>>>], found: &[Vec<usize>]) -> Vec<Vec<usize>> {
         let mut offset = 0;
-        for (v, view) in views.iter().enumerate() {
-            let count = samples.per_view[v];
-            let (w, h) = (view.geometry.width, view.geometry.height);
-            let mut at = vec![f64::NAN; w * h];
-            let mut brighter = vec![false; w * h];
-            let mut theta_h = vec![f64::NAN; w * h];
-            for i in offset..offset + count {
+        (0..self.views.len())
+            .map(|v| {
+                let range = offset..offset + self.samples.per_view[v];
+                offset = range.end;
+                self.view_strays(v, range, intervals[v].is_some(), !found[v].is_empty())
+            })
+            .collect()
+    }
+
+    /// The strays of view `v`, whose samples are `range`; `toned`: the view is in flat tones;
+    /// `found_before`: an earlier pass found strays in it.
+    fn view_strays(&self, v: usize, range: std::ops::Range<usize>, toned: bool, found_before: bool) -> Vec<usize> {
+        let (samples, view, headlit) = (&self.samples, &self.views[v], self.headlit);
+        let count = range.len();
+        let (w, h) = (view.geometry.width, view.geometry.height);
+        // Per pixel: its miss, whether it is brighter than the fit, and its $\theta_h$.
+        let mut at = vec![f64::NAN; w * h];
+        let mut brighter = vec![false; w * h];
+        let mut theta_h = vec![f64::NAN; w * h];
+        for i in range.clone() {
+            let k = samples.origin[i].1;
+            at[k] = self.miss[i];
+            brighter[k] = self.signed[i] > 0.0;
+            theta_h[k] = samples.pattern.queries[i].h().z.clamp(-1.0, 1.0).acos().to_degrees();
+        }
+        let mut stray: Vec<bool> = at.iter().map(|&m| m > self.threshold).collect();
+        let least = (MIN_STROKE * count as f64).max(MIN_STROKE_PIXELS as f64) as usize;
+        // Not under a headlight: there the outline is the terminator, where the shading
+        // falls to black all round and the fit's misses are the limb's as much as any
+        // stroke's. With its blobs there repainted, a headlit Oren-Nayar sphere with every
+        // fault (128², seed 11) was read to a held-out error of 0.62 and a light sweep of
+        // 0.94, its fit taking the inverted mapping (0.34 and under 0.5 without:
+        // tests/headlit.rs).
+        let outline = (!headlit).then_some(&view.geometry);
+        // In flat tones, once the view has strays: the samples whose tones the fit misses
+        // far more than the rest ([`TONE_TAIL`]).
+        let has_strays = || {
+            let mut kept = stray.clone();
+            keep_strokes(&mut kept, least, outline, &at, &brighter, &theta_h, w);
+            found_before || kept.contains(&true)
+        };
+        if count > 0 && toned && has_strays() {
+            let mut scratch = self.off[range.clone()].to_vec();
+            let p99 = *scratch.select_nth_unstable_by(count * 99 / 100, f64::total_cmp).1;
+            let limit = (TONE_TAIL * p99).max(MIN_OFF_TONE);
+            // Not about the view's mirror point, where a highlight a few degrees off the
+            // fit's is a tone or two off on both sides ([`keep_strokes`]).
+            let mirror = mirror_point(&theta_h);
+            for i in range {
                 let k = samples.origin[i].1;
-                at[k] = miss[i];
-                brighter[k] = signed[i] > 0.0;
-                theta_h[k] = samples.pattern.queries[i].h().z.clamp(-1.0, 1.0).acos().to_degrees();
-            }
-            offset += count;
-            let mut stray: Vec<bool> = at.iter().map(|&m| m > threshold).collect();
-            let least = (MIN_STROKE * count as f64).max(MIN_STROKE_PIXELS as f64) as usize;
-            // Not under a headlight: there the outline is the terminator, where the shading
-            // falls to black all round and the fit's misses are the limb's as much as any
-            // stroke's. With its blobs there repainted, a headlit Oren-Nayar sphere with every
-            // fault (128², seed 11) was read to a held-out error of 0.62 and a light sweep of
-            // 0.94, its fit taking the inverted mapping (0.34 and under 0.5 without:
-            // tests/headlit.rs).
-            let outline = (!headlit).then_some(&view.geometry);
-            // In flat tones, once the view has strays: the samples whose tones the fit misses
-            // far more than the rest ([`TONE_TAIL`]).
-            let has_strays = || {
-                let mut kept = stray.clone();
-                keep_strokes(&mut kept, least, outline, &at, &brighter, &theta_h, w);
-                !found[v].is_empty() || kept.contains(&true)
-            };
-            if count > 0 && intervals[v].is_some() && has_strays() {
-                let range = offset - count..offset;
-                let mut scratch = off[range.clone()].to_vec();
-                let p99 = *scratch.select_nth_unstable_by(count * 99 / 100, f64::total_cmp).1;
-                let limit = (TONE_TAIL * p99).max(MIN_OFF_TONE);
-                // Not about the view's mirror point, where a highlight a few degrees off the
-                // fit's is a tone or two off on both sides ([`keep_strokes`]).
-                let mirror = mirror_point(&theta_h);
-                for i in range {
-                    let k = samples.origin[i].1;
-                    if off[i] > limit && theta_h[k] > mirror + HIGHLIGHT_DEG {
-                        stray[k] = true;
-                    }
+                if self.off[i] > limit && theta_h[k] > mirror + HIGHLIGHT_DEG {
+                    stray[k] = true;
                 }
             }
-            keep_strokes(&mut stray, least, outline, &at, &brighter, &theta_h, w);
-            grow(&mut stray, &at, w, RIM * threshold);
-            if intervals[v].is_some() && !headlit {
-                widen(&mut stray, &theta_h, w);
-            }
-            strays[v] = (0..w * h).filter(|&k| stray[k]).collect();
         }
-        let total: usize = strays.iter().map(Vec::len).sum();
-        if total == 0 {
-            break;
+        keep_strokes(&mut stray, least, outline, &at, &brighter, &theta_h, w);
+        grow(&mut stray, &at, w, RIM * self.threshold);
+        if toned && !headlit {
+            widen(&mut stray, &theta_h, w);
         }
-        let before: usize = found.iter().map(Vec::len).sum();
-        if (total + before) as f64 > MAX_FRACTION * (n + before) as f64 {
-            if before == 0 {
-                return Ok(None);
-            }
-            break;
-        }
-        for ((view, s), f) in views.iter_mut().zip(&strays).zip(found.iter_mut()) {
-            for &k in s {
-                view.geometry.usable[k] = false;
-            }
-            f.extend_from_slice(s);
-        }
+        (0..w * h).filter(|&k| stray[k]).collect()
     }
-    if found.iter().all(Vec::is_empty) {
-        return Ok(None);
-    }
-    fill(views, &found)?;
-    Ok(Some(Strays { per_view: found, toned: lit_aside && intervals.iter().any(Option::is_some), left_out: false }))
 }
 
 /// The stray search's fit of `samples` under `settings` (offset mapping): its prediction,

@@ -503,108 +503,15 @@ impl Walker<'_> {
         }
         let bad = |reason: String| Error::format(self.path, format!("{what}: {reason}"));
         let buffers = self.buffers;
-        let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-
-        let position_accessor = primitive
-            .get(&gltf::Semantic::Positions)
-            .ok_or_else(|| bad("no POSITION attribute".into()))?;
-        check_accessor(&position_accessor, buffers, "POSITION", Dimensions::Vec3, QUANTIZED).map_err(&bad)?;
-        let n = position_accessor.count();
-        if n > u32::MAX as usize {
-            return Err(bad(format!("{n} vertices is more than 32-bit indices can address")));
-        }
-        let positions: Vec<Vec3> = read_floats::<3>(&position_accessor, buffers)
-            .ok_or_else(|| bad("POSITION data lies outside its buffer".into()))?
-            .into_iter()
-            .map(Vec3::from_array)
-            .collect();
-        check_count(positions.len(), n, "POSITION").map_err(&bad)?;
-
-        let normals: Vec<Vec3> = match primitive.get(&gltf::Semantic::Normals) {
-            None => Vec::new(),
-            Some(acc) => {
-                check_accessor(&acc, buffers, "NORMAL", Dimensions::Vec3, SIGNED_QUANTIZED).map_err(&bad)?;
-                let normals: Vec<Vec3> = read_floats::<3>(&acc, buffers)
-                    .ok_or_else(|| bad("NORMAL data lies outside its buffer".into()))?
-                    .into_iter()
-                    .map(|n| unit_or(Vec3::from_array(n), Vec3::Z))
-                    .collect();
-                check_count(normals.len(), n, "NORMAL").map_err(&bad)?;
-                normals
-            }
-        };
-
-        let tangents: Option<Vec<Vec4>> = match primitive.get(&gltf::Semantic::Tangents) {
-            None => None,
-            Some(acc) => {
-                check_accessor(&acc, buffers, "TANGENT", Dimensions::Vec4, SIGNED_QUANTIZED).map_err(&bad)?;
-                let tangents: Vec<Vec4> = read_floats::<4>(&acc, buffers)
-                    .ok_or_else(|| bad("TANGENT data lies outside its buffer".into()))?
-                    .into_iter()
-                    .map(|t| {
-                        // w is ±1 by the spec; snap anything else to its sign.
-                        let w = if t[3] < 0.0 { -1.0 } else { 1.0 };
-                        unit_or(Vec3::new(t[0], t[1], t[2]), Vec3::X).extend(w)
-                    })
-                    .collect();
-                check_count(tangents.len(), n, "TANGENT").map_err(&bad)?;
-                Some(tangents)
-            }
-        };
+        let (positions, n) = read_positions(primitive, buffers).map_err(&bad)?;
+        let normals = read_normals(primitive, buffers, n).map_err(&bad)?;
+        let tangents = read_tangents(primitive, buffers, n).map_err(&bad)?;
         // Tangents without normals are meaningless (their frame is the normal's): drop them
         // and let them be remade from the generated normals.
         let tangents = if normals.is_empty() { None } else { tangents };
-
-        let uvs: Option<Vec<Vec2>> = match primitive.get(&gltf::Semantic::TexCoords(0)) {
-            None => None,
-            Some(acc) => {
-                check_accessor(&acc, buffers, "TEXCOORD_0", Dimensions::Vec2, QUANTIZED).map_err(&bad)?;
-                let uvs: Vec<Vec2> = read_floats::<2>(&acc, buffers)
-                    .ok_or_else(|| bad("TEXCOORD_0 data lies outside its buffer".into()))?
-                    .into_iter()
-                    .map(Vec2::from_array)
-                    .collect();
-                check_count(uvs.len(), n, "TEXCOORD_0").map_err(&bad)?;
-                if uvs.iter().any(|uv| !uv.is_finite()) {
-                    return Err(bad("non-finite texture coordinate".into()));
-                }
-                Some(uvs)
-            }
-        };
-
-        let vertex_order: Vec<u32> = match primitive.indices() {
-            None => (0..n as u32).collect(),
-            Some(acc) => {
-                check_accessor(&acc, buffers, "indices", Dimensions::Scalar, &[DataType::U8, DataType::U16, DataType::U32])
-                    .map_err(&bad)?;
-                let indices: Vec<u32> = reader
-                    .read_indices()
-                    .ok_or_else(|| bad("index data lies outside its buffer".into()))?
-                    .into_u32()
-                    .collect();
-                check_count(indices.len(), acc.count(), "indices").map_err(&bad)?;
-                indices
-            }
-        };
-        let indices = match mode {
-            Mode::Triangles => {
-                // A trailing partial triangle is malformed; drop it rather than fail.
-                let whole = vertex_order.len() / 3 * 3;
-                vertex_order[..whole].to_vec()
-            }
-            Mode::TriangleStrip => (2..vertex_order.len())
-                .flat_map(|i| {
-                    let (a, b, c) = (vertex_order[i - 2], vertex_order[i - 1], vertex_order[i]);
-                    // Every other strip triangle is wound the other way round.
-                    if i % 2 == 0 { [a, b, c] } else { [b, a, c] }
-                })
-                .collect(),
-            Mode::TriangleFan => (2..vertex_order.len())
-                .flat_map(|i| [vertex_order[0], vertex_order[i - 1], vertex_order[i]])
-                .collect(),
-            // Point and line modes returned above.
-            Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip => Vec::new(),
-        };
+        let uvs = read_uvs(primitive, buffers, n).map_err(&bad)?;
+        let vertex_order = read_vertex_order(primitive, buffers, n).map_err(&bad)?;
+        let indices = triangles(mode, &vertex_order);
         if let Some(&bad_index) = indices.iter().find(|&&i| i as usize >= n) {
             return Err(bad(format!("index {bad_index} out of range for {n} vertices")));
         }
@@ -613,6 +520,94 @@ impl Walker<'_> {
         }
         Ok(Some(CpuMesh { positions, normals, tangents, uvs, indices }))
     }
+}
+
+/// A primitive's POSITION attribute, and its vertex count.
+fn read_positions(primitive: &gltf::Primitive, buffers: &[gltf::buffer::Data]) -> std::result::Result<(Vec<Vec3>, usize), String> {
+    let accessor = primitive.get(&gltf::Semantic::Positions).ok_or("no POSITION attribute")?;
+    check_accessor(&accessor, buffers, "POSITION", Dimensions::Vec3, QUANTIZED)?;
+    let n = accessor.count();
+    if n > u32::MAX as usize {
+        return Err(format!("{n} vertices is more than 32-bit indices can address"));
+    }
+    let positions = all_elements(read_floats::<3>(&accessor, buffers), n, "POSITION")?;
+    Ok((positions.into_iter().map(Vec3::from_array).collect(), n))
+}
+
+/// A primitive's unit normals for its `n` vertices; empty without a NORMAL attribute.
+fn read_normals(primitive: &gltf::Primitive, buffers: &[gltf::buffer::Data], n: usize) -> std::result::Result<Vec<Vec3>, String> {
+    let Some(accessor) = primitive.get(&gltf::Semantic::Normals) else { return Ok(Vec::new()) };
+    check_accessor(&accessor, buffers, "NORMAL", Dimensions::Vec3, SIGNED_QUANTIZED)?;
+    let normals = all_elements(read_floats::<3>(&accessor, buffers), n, "NORMAL")?;
+    Ok(normals.into_iter().map(|v| unit_or(Vec3::from_array(v), Vec3::Z)).collect())
+}
+
+/// A primitive's tangents (unit, w ±1) for its `n` vertices, if it has a TANGENT attribute.
+fn read_tangents(primitive: &gltf::Primitive, buffers: &[gltf::buffer::Data], n: usize) -> std::result::Result<Option<Vec<Vec4>>, String> {
+    let Some(accessor) = primitive.get(&gltf::Semantic::Tangents) else { return Ok(None) };
+    check_accessor(&accessor, buffers, "TANGENT", Dimensions::Vec4, SIGNED_QUANTIZED)?;
+    let tangents = all_elements(read_floats::<4>(&accessor, buffers), n, "TANGENT")?;
+    let tangents = tangents.into_iter().map(|t| {
+        // w is ±1 by the spec; snap anything else to its sign.
+        let w = if t[3] < 0.0 { -1.0 } else { 1.0 };
+        unit_or(Vec3::new(t[0], t[1], t[2]), Vec3::X).extend(w)
+    });
+    Ok(Some(tangents.collect()))
+}
+
+/// A primitive's texture coordinates (TEXCOORD_0, finite) for its `n` vertices, if it has them.
+fn read_uvs(primitive: &gltf::Primitive, buffers: &[gltf::buffer::Data], n: usize) -> std::result::Result<Option<Vec<Vec2>>, String> {
+    let Some(accessor) = primitive.get(&gltf::Semantic::TexCoords(0)) else { return Ok(None) };
+    check_accessor(&accessor, buffers, "TEXCOORD_0", Dimensions::Vec2, QUANTIZED)?;
+    let uvs: Vec<Vec2> =
+        all_elements(read_floats::<2>(&accessor, buffers), n, "TEXCOORD_0")?.into_iter().map(Vec2::from_array).collect();
+    if uvs.iter().any(|uv| !uv.is_finite()) {
+        return Err("non-finite texture coordinate".into());
+    }
+    Ok(Some(uvs))
+}
+
+/// A primitive's vertex indices in the order its mode reads them: its index accessor's, or
+/// the `n` vertices in turn when it has none.
+fn read_vertex_order(primitive: &gltf::Primitive, buffers: &[gltf::buffer::Data], n: usize) -> std::result::Result<Vec<u32>, String> {
+    let Some(accessor) = primitive.indices() else { return Ok((0..n as u32).collect()) };
+    check_accessor(&accessor, buffers, "indices", Dimensions::Scalar, &[DataType::U8, DataType::U16, DataType::U32])?;
+    let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+    let indices: Vec<u32> = reader.read_indices().ok_or("index data lies outside its buffer")?.into_u32().collect();
+    check_count(indices.len(), accessor.count(), "indices")?;
+    Ok(indices)
+}
+
+/// The triangle list of a triangle, strip or fan primitive whose vertices come in
+/// `vertex_order`.
+fn triangles(mode: Mode, vertex_order: &[u32]) -> Vec<u32> {
+    match mode {
+        Mode::Triangles => {
+            // A trailing partial triangle is malformed; drop it rather than fail.
+            let whole = vertex_order.len() / 3 * 3;
+            vertex_order[..whole].to_vec()
+        }
+        Mode::TriangleStrip => (2..vertex_order.len())
+            .flat_map(|i| {
+                let (a, b, c) = (vertex_order[i - 2], vertex_order[i - 1], vertex_order[i]);
+                // Every other strip triangle is wound the other way round.
+                if i % 2 == 0 { [a, b, c] } else { [b, a, c] }
+            })
+            .collect(),
+        Mode::TriangleFan => {
+            (2..vertex_order.len()).flat_map(|i| [vertex_order[0], vertex_order[i - 1], vertex_order[i]]).collect()
+        }
+        // Point and line primitives are skipped before they are read.
+        Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip => Vec::new(),
+    }
+}
+
+/// An attribute's elements as read ([`read_floats`]: `None` when its data lies outside its
+/// buffer), checked to be all `n` of them.
+fn all_elements<T>(read: Option<Vec<T>>, n: usize, name: &str) -> std::result::Result<Vec<T>, String> {
+    let elements = read.ok_or_else(|| format!("{name} data lies outside its buffer"))?;
+    check_count(elements.len(), n, name)?;
+    Ok(elements)
 }
 
 /// "camera 0 at node 3 ('Main')": an object and the node that places it, for a note.

@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::{Quat, Vec3};
 use serde_json::{json, Value};
 
-use super::{Light, Projection, Scene};
+use super::{Camera, CpuMesh, Light, Projection, Scene};
 use crate::error::{Error, Result};
 
 impl Scene {
@@ -75,107 +75,14 @@ impl Scene {
 
     /// The glTF JSON document of [`Scene::write_gltf`].
     fn to_gltf_json(&self) -> Value {
-        let mut bin = Vec::<u8>::new();
-        let mut views = Vec::<Value>::new();
-        let mut accessors = Vec::<Value>::new();
-        // Appends one tightly packed attribute and returns its accessor index.
-        let mut push = |floats_or_ints: &[u8], count: usize, kind: &str, component: u32, extra: Value, target: u32| {
-            let offset = bin.len();
-            bin.extend_from_slice(floats_or_ints);
-            // Keep every view 4-byte aligned, as glTF requires for f32 and u32 data.
-            while bin.len() % 4 != 0 {
-                bin.push(0);
-            }
-            views.push(json!({ "buffer": 0, "byteOffset": offset, "byteLength": floats_or_ints.len(), "target": target }));
-            let mut accessor = json!({ "bufferView": views.len() - 1, "componentType": component, "count": count, "type": kind });
-            if let (Value::Object(a), Value::Object(e)) = (&mut accessor, extra) {
-                a.extend(e);
-            }
-            accessors.push(accessor);
-            accessors.len() - 1
-        };
-        const F32: u32 = 5126;
-        const U32: u32 = 5125;
-        const ARRAY_BUFFER: u32 = 34962;
-        const ELEMENT_ARRAY_BUFFER: u32 = 34963;
-
-        let mut meshes = Vec::new();
-        let mut nodes = Vec::new();
-        for (k, mesh) in self.meshes.iter().enumerate() {
-            let n = mesh.positions.len();
-            let (lo, hi) = mesh.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO));
-            let mut attributes = serde_json::Map::new();
-            let position = push(
-                &f32_bytes(mesh.positions.iter().flat_map(|p| p.to_array())),
-                n,
-                "VEC3",
-                F32,
-                json!({ "min": lo.to_array(), "max": hi.to_array() }),
-                ARRAY_BUFFER,
-            );
-            attributes.insert("POSITION".into(), position.into());
-            let normal =
-                push(&f32_bytes(mesh.normals.iter().flat_map(|v| v.to_array())), n, "VEC3", F32, json!({}), ARRAY_BUFFER);
-            attributes.insert("NORMAL".into(), normal.into());
-            if let Some(t) = &mesh.tangents {
-                let tangent = push(&f32_bytes(t.iter().flat_map(|v| v.to_array())), n, "VEC4", F32, json!({}), ARRAY_BUFFER);
-                attributes.insert("TANGENT".into(), tangent.into());
-            }
-            if let Some(uv) = &mesh.uvs {
-                let uv = push(&f32_bytes(uv.iter().flat_map(|v| v.to_array())), n, "VEC2", F32, json!({}), ARRAY_BUFFER);
-                attributes.insert("TEXCOORD_0".into(), uv.into());
-            }
-            let index_bytes: Vec<u8> = mesh.indices.iter().flat_map(|i| i.to_le_bytes()).collect();
-            let indices = push(&index_bytes, mesh.indices.len(), "SCALAR", U32, json!({}), ELEMENT_ARRAY_BUFFER);
-            meshes.push(json!({
-                "name": format!("mesh{k}"),
-                "primitives": [{ "attributes": attributes, "indices": indices, "mode": 4 }],
-            }));
-            nodes.push(json!({ "name": format!("mesh{k}"), "mesh": k }));
-        }
-
-        let camera = match self.camera.projection {
-            Projection::Perspective { yfov, aspect, znear, zfar } => {
-                let mut p = json!({ "yfov": yfov, "znear": znear });
-                if let Some(a) = aspect {
-                    p["aspectRatio"] = a.into();
-                }
-                if let Some(f) = zfar {
-                    p["zfar"] = f.into();
-                }
-                json!({ "type": "perspective", "perspective": p })
-            }
-            Projection::Orthographic { xmag, ymag, znear, zfar } => json!({
-                "type": "orthographic",
-                "orthographic": { "xmag": xmag, "ymag": ymag, "znear": znear, "zfar": zfar },
-            }),
-        };
-        // A camera has no scale: write its rotation and position.
-        let (_, rotation, translation) = self.camera.world_from_camera.to_scale_rotation_translation();
-        nodes.push(json!({
-            "name": "camera",
-            "camera": 0,
-            "rotation": rotation.normalize().to_array(),
-            "translation": translation.to_array(),
-        }));
-
-        let (light, light_node) = match self.light {
-            Light::Directional { direction, color, intensity } => {
-                // The node's -Z is the direction the light travels.
-                let rotation = Quat::from_rotation_arc(-Vec3::Z, direction.normalize());
-                (
-                    json!({ "type": "directional", "color": color.to_array(), "intensity": intensity }),
-                    json!({ "name": "light", "rotation": rotation.to_array(), "extensions": { "KHR_lights_punctual": { "light": 0 } } }),
-                )
-            }
-            Light::Point { position, color, intensity } => (
-                json!({ "type": "point", "color": color.to_array(), "intensity": intensity }),
-                json!({ "name": "light", "translation": position.to_array(), "extensions": { "KHR_lights_punctual": { "light": 0 } } }),
-            ),
-        };
+        let mut buffer = Buffer::default();
+        let meshes: Vec<Value> = self.meshes.iter().enumerate().map(|(k, mesh)| buffer.mesh(k, mesh)).collect();
+        let mut nodes: Vec<Value> = (0..meshes.len()).map(|k| json!({ "name": format!("mesh{k}"), "mesh": k })).collect();
+        nodes.push(camera_node(&self.camera));
+        let (light, light_node) = light_json(&self.light);
         nodes.push(light_node);
 
-        let buffer_uri = format!("data:application/octet-stream;base64,{}", base64(&bin));
+        let buffer_uri = format!("data:application/octet-stream;base64,{}", base64(&buffer.bin));
         json!({
             "asset": { "version": "2.0", "generator": concat!("brdfpaint ", env!("CARGO_PKG_VERSION")) },
             "extensionsUsed": ["KHR_lights_punctual"],
@@ -184,11 +91,120 @@ impl Scene {
             "scenes": [{ "nodes": (0..nodes.len()).collect::<Vec<_>>() }],
             "nodes": nodes,
             "meshes": meshes,
-            "cameras": [camera],
-            "accessors": accessors,
-            "bufferViews": views,
-            "buffers": [{ "byteLength": bin.len(), "uri": buffer_uri }],
+            "cameras": [camera_json(&self.camera.projection)],
+            "accessors": buffer.accessors,
+            "bufferViews": buffer.views,
+            "buffers": [{ "byteLength": buffer.bin.len(), "uri": buffer_uri }],
         })
+    }
+}
+
+const F32: u32 = 5126;
+const U32: u32 = 5125;
+const ARRAY_BUFFER: u32 = 34962;
+const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+
+/// The one binary buffer of the file, with its buffer views and accessors.
+#[derive(Default)]
+struct Buffer {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Buffer {
+    /// Appends one tightly packed attribute and returns its accessor index.
+    fn push(&mut self, floats_or_ints: &[u8], count: usize, kind: &str, component: u32, target: u32) -> usize {
+        let offset = self.bin.len();
+        self.bin.extend_from_slice(floats_or_ints);
+        // Keep every view 4-byte aligned, as glTF requires for f32 and u32 data.
+        while self.bin.len() % 4 != 0 {
+            self.bin.push(0);
+        }
+        self.views.push(json!({ "buffer": 0, "byteOffset": offset, "byteLength": floats_or_ints.len(), "target": target }));
+        let accessor = json!({ "bufferView": self.views.len() - 1, "componentType": component, "count": count, "type": kind });
+        self.accessors.push(accessor);
+        self.accessors.len() - 1
+    }
+
+    /// Appends mesh `k`'s vertex attributes and indices, and returns its glTF mesh.
+    fn mesh(&mut self, k: usize, mesh: &CpuMesh) -> Value {
+        let n = mesh.positions.len();
+        let (lo, hi) = mesh.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO));
+        let mut attributes = serde_json::Map::new();
+        let position = self.push(&f32_bytes(mesh.positions.iter().flat_map(|p| p.to_array())), n, "VEC3", F32, ARRAY_BUFFER);
+        if let (Value::Object(a), Value::Object(e)) =
+            (&mut self.accessors[position], json!({ "min": lo.to_array(), "max": hi.to_array() }))
+        {
+            a.extend(e);
+        }
+        attributes.insert("POSITION".into(), position.into());
+        let normal = self.push(&f32_bytes(mesh.normals.iter().flat_map(|v| v.to_array())), n, "VEC3", F32, ARRAY_BUFFER);
+        attributes.insert("NORMAL".into(), normal.into());
+        if let Some(t) = &mesh.tangents {
+            let tangent = self.push(&f32_bytes(t.iter().flat_map(|v| v.to_array())), n, "VEC4", F32, ARRAY_BUFFER);
+            attributes.insert("TANGENT".into(), tangent.into());
+        }
+        if let Some(uv) = &mesh.uvs {
+            let uv = self.push(&f32_bytes(uv.iter().flat_map(|v| v.to_array())), n, "VEC2", F32, ARRAY_BUFFER);
+            attributes.insert("TEXCOORD_0".into(), uv.into());
+        }
+        let index_bytes: Vec<u8> = mesh.indices.iter().flat_map(|i| i.to_le_bytes()).collect();
+        let indices = self.push(&index_bytes, mesh.indices.len(), "SCALAR", U32, ELEMENT_ARRAY_BUFFER);
+        json!({
+            "name": format!("mesh{k}"),
+            "primitives": [{ "attributes": attributes, "indices": indices, "mode": 4 }],
+        })
+    }
+}
+
+/// The glTF camera of `projection`.
+fn camera_json(projection: &Projection) -> Value {
+    match *projection {
+        Projection::Perspective { yfov, aspect, znear, zfar } => {
+            let mut p = json!({ "yfov": yfov, "znear": znear });
+            if let Some(a) = aspect {
+                p["aspectRatio"] = a.into();
+            }
+            if let Some(f) = zfar {
+                p["zfar"] = f.into();
+            }
+            json!({ "type": "perspective", "perspective": p })
+        }
+        Projection::Orthographic { xmag, ymag, znear, zfar } => json!({
+            "type": "orthographic",
+            "orthographic": { "xmag": xmag, "ymag": ymag, "znear": znear, "zfar": zfar },
+        }),
+    }
+}
+
+/// The node that places camera 0.
+fn camera_node(camera: &Camera) -> Value {
+    // A camera has no scale: write its rotation and position.
+    let (_, rotation, translation) = camera.world_from_camera.to_scale_rotation_translation();
+    json!({
+        "name": "camera",
+        "camera": 0,
+        "rotation": rotation.normalize().to_array(),
+        "translation": translation.to_array(),
+    })
+}
+
+/// The KHR_lights_punctual light of `light`, and the node that places it.
+fn light_json(light: &Light) -> (Value, Value) {
+    match *light {
+        Light::Directional { direction, color, intensity } => {
+            // The node's -Z is the direction the light travels.
+            let rotation = Quat::from_rotation_arc(-Vec3::Z, direction.normalize());
+            (
+                json!({ "type": "directional", "color": color.to_array(), "intensity": intensity }),
+                json!({ "name": "light", "rotation": rotation.to_array(), "extensions": { "KHR_lights_punctual": { "light": 0 } } }),
+            )
+        }
+        Light::Point { position, color, intensity } => (
+            json!({ "type": "point", "color": color.to_array(), "intensity": intensity }),
+            json!({ "name": "light", "translation": position.to_array(), "extensions": { "KHR_lights_punctual": { "light": 0 } } }),
+        ),
     }
 }
 

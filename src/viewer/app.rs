@@ -248,65 +248,81 @@ fn pick_config(configs: Box<dyn Iterator<Item = Config> + '_>) -> Config {
     all.iter().max_by_key(|c| score(c)).cloned().or_else(|| all.into_iter().next()).expect("glutin returns at least one config")
 }
 
+/// The window, `size` physical pixels, with a GL config that draws to it ([`pick_config`]).
+fn open_window(event_loop: &ActiveEventLoop, size: [u32; 2]) -> Result<(Window, Config)> {
+    let attributes = Window::default_attributes()
+        .with_title("brdfpaint")
+        .with_inner_size(winit::dpi::PhysicalSize::new(size[0], size[1]));
+    let template = ConfigTemplateBuilder::new().with_alpha_size(8).with_depth_size(0).with_stencil_size(0);
+    let (window, config) = glutin_winit::DisplayBuilder::new()
+        .with_preference(glutin_winit::ApiPreference::FallbackEgl)
+        .with_window_attributes(Some(attributes.clone()))
+        .build(event_loop, template, |configs| {
+            let mut configs = configs.peekable();
+            if configs.peek().is_none() {
+                // Never reached in practice; keeps the picker total.
+                panic!("no GL config");
+            }
+            pick_config(Box::new(configs))
+        })
+        .map_err(|e| Error::Gl(format!("cannot find a GL configuration for a window: {e}")))?;
+    let window = match window {
+        Some(w) => w,
+        None => glutin_winit::finalize_window(event_loop, attributes, &config)
+            .map_err(|e| Error::Gl(format!("cannot create the window: {e}")))?,
+    };
+    Ok((window, config))
+}
+
+/// The window's surface and a GL context made current on it, vsync where the driver has it.
+fn current_context(
+    display: &glutin::display::Display,
+    config: &Config,
+    window: &Window,
+) -> Result<(Surface<WindowSurface>, PossiblyCurrentContext)> {
+    let handle = window.window_handle().map_err(|e| Error::Gl(format!("no window handle: {e}")))?.as_raw();
+    // GL 3.3 core (what the shaders are written for), else GLES 3.0, else whatever the
+    // driver gives.
+    let attempts = [
+        ContextAttributesBuilder::new()
+            .with_context_api(ContextApi::OpenGl(Some(Version::new(3, 3))))
+            .with_profile(GlProfile::Core)
+            .build(Some(handle)),
+        ContextAttributesBuilder::new().with_context_api(ContextApi::Gles(Some(Version::new(3, 0)))).build(Some(handle)),
+        ContextAttributesBuilder::new().build(Some(handle)),
+    ];
+    let mut failures = Vec::new();
+    let mut not_current = None;
+    for a in &attempts {
+        // SAFETY: the handle belongs to a live window.
+        match unsafe { display.create_context(config, a) } {
+            Ok(c) => {
+                not_current = Some(c);
+                break;
+            }
+            Err(e) => failures.push(e.to_string()),
+        }
+    }
+    let not_current = not_current
+        .ok_or_else(|| Error::Gl(format!("cannot create a GL context for the window: {}", failures.join("; "))))?;
+    let surface_attributes = window
+        .build_surface_attributes(Default::default())
+        .map_err(|e| Error::Gl(format!("cannot describe the window surface: {e}")))?;
+    // SAFETY: the attributes refer to the live window.
+    let surface = unsafe { display.create_window_surface(config, &surface_attributes) }
+        .map_err(|e| Error::Gl(format!("cannot create the window surface: {e}")))?;
+    let context =
+        not_current.make_current(&surface).map_err(|e| Error::Gl(format!("cannot make the GL context current: {e}")))?;
+    // Vsync where the driver has it; not an error where it does not.
+    let _ = surface.set_swap_interval(&context, SwapInterval::Wait(NonZeroU32::MIN));
+    Ok((surface, context))
+}
+
 impl Running {
     fn new(event_loop: &ActiveEventLoop, options: Options, repaint_at: Arc<Mutex<Option<Instant>>>) -> Result<Running> {
-        let attributes = Window::default_attributes()
-            .with_title("brdfpaint")
-            .with_inner_size(winit::dpi::PhysicalSize::new(options.window[0], options.window[1]));
-        let template = ConfigTemplateBuilder::new().with_alpha_size(8).with_depth_size(0).with_stencil_size(0);
-        let (window, config) = glutin_winit::DisplayBuilder::new()
-            .with_preference(glutin_winit::ApiPreference::FallbackEgl)
-            .with_window_attributes(Some(attributes.clone()))
-            .build(event_loop, template, |configs| {
-                let mut configs = configs.peekable();
-                if configs.peek().is_none() {
-                    // Never reached in practice; keeps the picker total.
-                    panic!("no GL config");
-                }
-                pick_config(Box::new(configs))
-            })
-            .map_err(|e| Error::Gl(format!("cannot find a GL configuration for a window: {e}")))?;
-        let window = match window {
-            Some(w) => w,
-            None => glutin_winit::finalize_window(event_loop, attributes, &config)
-                .map_err(|e| Error::Gl(format!("cannot create the window: {e}")))?,
-        };
+        let (window, config) = open_window(event_loop, options.window)?;
         let display = config.display();
-        let handle = window.window_handle().map_err(|e| Error::Gl(format!("no window handle: {e}")))?.as_raw();
-        // GL 3.3 core (what the shaders are written for), else GLES 3.0, else whatever the
-        // driver gives.
-        let attempts = [
-            ContextAttributesBuilder::new()
-                .with_context_api(ContextApi::OpenGl(Some(Version::new(3, 3))))
-                .with_profile(GlProfile::Core)
-                .build(Some(handle)),
-            ContextAttributesBuilder::new().with_context_api(ContextApi::Gles(Some(Version::new(3, 0)))).build(Some(handle)),
-            ContextAttributesBuilder::new().build(Some(handle)),
-        ];
-        let mut failures = Vec::new();
-        let mut not_current = None;
-        for a in &attempts {
-            // SAFETY: the handle belongs to a live window.
-            match unsafe { display.create_context(&config, a) } {
-                Ok(c) => {
-                    not_current = Some(c);
-                    break;
-                }
-                Err(e) => failures.push(e.to_string()),
-            }
-        }
-        let not_current = not_current
-            .ok_or_else(|| Error::Gl(format!("cannot create a GL context for the window: {}", failures.join("; "))))?;
-        let surface_attributes = window
-            .build_surface_attributes(Default::default())
-            .map_err(|e| Error::Gl(format!("cannot describe the window surface: {e}")))?;
-        // SAFETY: the attributes refer to the live window.
-        let surface = unsafe { display.create_window_surface(&config, &surface_attributes) }
-            .map_err(|e| Error::Gl(format!("cannot create the window surface: {e}")))?;
-        let context =
-            not_current.make_current(&surface).map_err(|e| Error::Gl(format!("cannot make the GL context current: {e}")))?;
-        // Vsync where the driver has it; not an error where it does not.
-        let _ = surface.set_swap_interval(&context, SwapInterval::Wait(NonZeroU32::MIN));
+        let (surface, context) = current_context(&display, &config, &window)?;
 
         let load = |s: &std::ffi::CStr| display.get_proc_address(s);
         // SAFETY: the context is current; the loader returns its functions.

@@ -10,6 +10,7 @@ use super::tools::Tool;
 use super::{short, Mode, Studio};
 use crate::images::linear_to_srgb;
 use crate::live::{CanvasRect, WatchStatus};
+use super::super::display::WindowRect;
 
 impl Studio {
     pub(super) fn central(&mut self, ui: &mut egui::Ui) {
@@ -34,6 +35,23 @@ impl Studio {
             return;
         }
         self.layout.view_rect = Some(px);
+        self.navigate(ui, rect);
+        self.draw_sun(ui, rect, px);
+        let name = format!("{} · {}", short(self.model_name()), short(self.material_name()));
+        let painter = ui.painter_at(rect);
+        painter.text(
+            rect.left_top() + Vec2::new(8.0, 6.0),
+            egui::Align2::LEFT_TOP,
+            name,
+            egui::FontId::proportional(13.0),
+            Color32::from_gray(200),
+        );
+        self.draw_meter(&painter, rect);
+        self.draw_status_line(&painter, rect);
+    }
+
+    /// Drags and scrolls on the 3D view turn the camera, the light or the environment.
+    fn navigate(&mut self, ui: &mut egui::Ui, rect: Rect) {
         let response = ui.interact(rect, ui.scope_id().with("3d view"), Sense::click_and_drag());
         let d = response.drag_delta();
         let (shift, alt) = ui.input(|i| (i.modifiers.shift, i.modifiers.alt));
@@ -56,7 +74,10 @@ impl Studio {
         }
         // A moving view takes fewer environment directions (environment module docs).
         self.env.moving |= response.dragged() && d != Vec2::ZERO;
-        // The light's direction, drawn as a small sun beside the object.
+    }
+
+    /// The light's direction, drawn as a small sun beside the object (`px`: the view's pixels).
+    fn draw_sun(&self, ui: &egui::Ui, rect: Rect, px: WindowRect) {
         let camera = self.stage.orbit.camera(rect.width() / rect.height());
         if let Ok(view) = crate::render::View::new(&camera, px.width as usize, px.height as usize) {
             let project = |p: glam::Vec3| {
@@ -73,16 +94,10 @@ impl Studio {
                 p.circle_filled(b, 6.0, Color32::from_rgb(255, 214, 90));
             }
         }
-        let name = format!("{} · {}", short(self.model_name()), short(self.material_name()));
-        let painter = ui.painter_at(rect);
-        painter.text(
-            rect.left_top() + Vec2::new(8.0, 6.0),
-            egui::Align2::LEFT_TOP,
-            name,
-            egui::FontId::proportional(13.0),
-            Color32::from_gray(200),
-        );
-        // The live-painting budget, where the eye is: the last stroke's way to the screen.
+    }
+
+    /// The live-painting budget, where the eye is: the last stroke's way to the screen.
+    fn draw_meter(&self, painter: &egui::Painter, rect: Rect) {
         if self.mode == Mode::Paint && self.meter.timings.count > 0 {
             let t = &self.meter.timings;
             let ok = t.total_ms <= 1000.0 / 60.0;
@@ -102,7 +117,10 @@ impl Studio {
             let galley = painter.layout(text, egui::FontId::proportional(12.0), colour, rect.width() - 16.0);
             painter.galley(rect.left_top() + Vec2::new(8.0, 24.0), galley, colour);
         }
-        // Errors, and in watch mode what the last look at the file found, along the bottom.
+    }
+
+    /// Errors, and in watch mode what the last look at the file found, along the bottom.
+    fn draw_status_line(&self, painter: &egui::Painter, rect: Rect) {
         let watcher = self.easel.watcher.as_ref();
         let failed = watcher.is_some_and(|w| matches!(w.status(), WatchStatus::Failed(_)));
         let line = match (&self.status.error, watcher) {
