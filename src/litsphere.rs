@@ -199,7 +199,10 @@ fn edge_circle(edges: &[edges::Edge], w: usize, h: usize, name: &str) -> Result<
     let good: Vec<edges::Support> = edges::circles(edges, w, h, r_min, r_max).into_iter().filter(|s| s.seen_in_frame >= MIN_SEEN).collect();
     let Some(best) = good.first().copied() else { return Ok(None) };
     let apart = |a: &Disk, b: &Disk| ((a.cx - b.cx).powi(2) + (a.cy - b.cy).powi(2)).sqrt() >= 0.95 * (a.r + b.r);
-    if let Some(other) = good.iter().skip(1).find(|s| apart(&s.disk, &best.disk) && s.disk.r > 0.5 * best.disk.r) {
+    // A second sphere shows most of its own outline (not just a short arc inside the frame,
+    // as a circle through the horizon or the frame's corner can) and about as much of it.
+    let rival = |s: &edges::Support| apart(&s.disk, &best.disk) && s.seen >= MIN_SEEN && s.seen * s.disk.r >= 0.5 * best.seen * best.disk.r;
+    if let Some(other) = good.iter().skip(1).find(|s| rival(s)) {
         return Err(Error::input(format!(
             "{name}: two shapes (circles of radius {:.0} and {:.0} pixels): give a picture of one sphere",
             best.disk.r, other.disk.r
