@@ -124,6 +124,11 @@ impl Located {
 /// within 20°, within a pixel), a sphere whose shadow hides its lower third about 60%.
 pub const MIN_SEEN: f64 = 0.5;
 
+/// A circle's edge gradients turn with its arc (a turning of 0, [`edges::turning`]); a
+/// polygon's sides tangent to a circle keep their direction (-1): halfway tells them apart.
+/// (A square's sides cover half of its inscribed circle within tolerance, as a sphere does.)
+const STRAIGHT_TURNING: f64 = -0.5;
+
 /// A circle the edges support better than the segmentation's by this share of the outline
 /// replaces it: a clean MatCap's segmented circle has its whole outline and stays as it was.
 const BETTER_BY: f64 = 0.15;
@@ -196,7 +201,10 @@ fn edge_circle(edges: &[edges::Edge], w: usize, h: usize, name: &str) -> Result<
     // A sphere is at least a tenth of the picture's shorter side (smaller ones are not
     // exemplars), and may be cut by the frame: up to the longer side across.
     let (r_min, r_max) = ((w.min(h) as f64 / 10.0).max(4.0), w.max(h) as f64 / 2.0);
-    let good: Vec<edges::Support> = edges::circles(edges, w, h, r_min, r_max).into_iter().filter(|s| s.seen_in_frame >= MIN_SEEN).collect();
+    let good: Vec<edges::Support> = edges::circles(edges, w, h, r_min, r_max)
+        .into_iter()
+        .filter(|s| s.seen_in_frame >= MIN_SEEN && edges::turning(edges, &s.disk) > STRAIGHT_TURNING)
+        .collect();
     let Some(best) = good.first().copied() else { return Ok(None) };
     let apart = |a: &Disk, b: &Disk| ((a.cx - b.cx).powi(2) + (a.cy - b.cy).powi(2)).sqrt() >= 0.95 * (a.r + b.r);
     // A second sphere shows most of its own outline (not just a short arc inside the frame,

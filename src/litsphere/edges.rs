@@ -349,6 +349,48 @@ pub fn support(edges: &[Edge], disk: &Disk, w: usize, h: usize) -> Support {
     }
 }
 
+/// How the edges' gradient turns along the seen arcs of `disk`'s outline, per radian of
+/// arc: about 0 on a circle, whose gradient stays radial as the arc turns, and about -1 on
+/// a straight edge passing within [`tolerance`] of it (a polygon's side), whose gradient
+/// keeps its direction, so its angle from the radial one falls as fast as the arc turns.
+/// A least-squares slope pooled over the runs of points (each centred on its own mean), so
+/// noise in the gradient's direction averages out; 0 when there is no run to measure.
+pub fn turning(edges: &[Edge], disk: &Disk) -> f64 {
+    let c = DVec2::new(disk.cx, disk.cy);
+    let tol = tolerance(disk.r);
+    let mut pts: Vec<(f64, f64)> = edges
+        .iter()
+        .filter_map(|e| {
+            let d = e.p - c;
+            let r = d.length();
+            let cos = if r > 0.0 { e.g.dot(d) / r } else { 0.0 };
+            if (r - disk.r).abs() > tol || cos.abs() < RADIAL_COS {
+                return None;
+            }
+            // The gradient's signed angle from the radial direction (either way across).
+            let g = e.g * cos.signum();
+            Some((d.to_angle(), (d.x * g.y - d.y * g.x).atan2(d.dot(g))))
+        })
+        .collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // A run ends where the arc has a gap of more than a few pixels.
+    let gap = 4.0 / disk.r.max(1.0);
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    let mut start = 0;
+    for k in 1..=pts.len() {
+        if k < pts.len() && pts[k].0 - pts[k - 1].0 <= gap {
+            continue;
+        }
+        let run = &pts[start..k];
+        let n = run.len() as f64;
+        let (ma, md) = (run.iter().map(|p| p.0).sum::<f64>() / n, run.iter().map(|p| p.1).sum::<f64>() / n);
+        sxy += run.iter().map(|p| (p.0 - ma) * (p.1 - md)).sum::<f64>();
+        sxx += run.iter().map(|p| (p.0 - ma).powi(2)).sum::<f64>();
+        start = k;
+    }
+    if sxx > 0.0 { sxy / sxx } else { 0.0 }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -359,5 +401,15 @@ mod tests {
         let pts: Vec<DVec2> = (0..60).map(|k| (k as f64 * 0.03 + 0.4)).map(|a| DVec2::new(truth.cx + truth.r * a.cos(), truth.cy + truth.r * a.sin())).collect();
         let d = geometric(&pts, Disk { cx: 45.0, cy: -5.0, r: 70.0 }).unwrap();
         assert!((d.cx - truth.cx).abs() < 1e-6 && (d.cy - truth.cy).abs() < 1e-6 && (d.r - truth.r).abs() < 1e-6, "{d:?}");
+    }
+
+    #[test]
+    fn gradients_turn_with_a_circle_and_not_with_a_square() {
+        let disk = Disk { cx: 50.0, cy: 50.0, r: 30.0 };
+        let circle: Vec<Edge> = (0..180).map(|k| k as f64 / 180.0 * std::f64::consts::TAU).map(|a| Edge { p: DVec2::new(50.0 + 30.0 * a.cos(), 50.0 + 30.0 * a.sin()), g: DVec2::new(a.cos(), a.sin()) }).collect();
+        assert!(turning(&circle, &disk).abs() < 0.05);
+        // The square's sides, tangent to the circle, each seen over ±20°.
+        let side: Vec<Edge> = (-11..=11).map(|t| Edge { p: DVec2::new(80.0, 50.0 + t as f64), g: DVec2::X }).collect();
+        assert!(turning(&side, &disk) < -0.8, "{}", turning(&side, &disk));
     }
 }
