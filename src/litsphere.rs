@@ -562,7 +562,14 @@ fn robust_best(dirs: &[DVec3], normals: &[DVec3], y: &[f64]) -> Result<(DVec3, f
                 coef[0] + coef[1] * c.max(0.0) + coef[2] * c.min(0.0) - yv
             })
             .collect();
-        let mut abs: Vec<f64> = residual.iter().map(|r| r.abs()).collect();
+        // The scale from the pixels at or below the model only: a highlight only adds light
+        // (specular over diffuse), so a glossy lobe's broad tail inflates the spread above
+        // the prediction and, measured on both sides, would pass as shading and bend the
+        // light towards it; below the prediction the spread is the shading's own.
+        let mut abs: Vec<f64> = residual.iter().filter(|&&r| r >= 0.0).copied().collect();
+        if abs.len() < 8 {
+            abs = residual.iter().map(|r| r.abs()).collect();
+        }
         abs.sort_by(f64::total_cmp);
         let sigma = (1.4826 * abs[abs.len() / 2]).max(1e-6 * y.iter().cloned().fold(0.0, f64::max));
         weight = residual.iter().map(|r| if r.abs() <= 2.5 * sigma { 1.0 } else { 0.0 }).collect();
