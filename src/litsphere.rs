@@ -18,10 +18,13 @@
 //! a lit side brighter towards the light (Lambert with ambient: $c = 0$) and, for warm-to-cool
 //! paintings, an unlit side that still brightens towards the terminator ($c > 0$, Gooch).
 //! For every candidate $l$ the model is linear in $(a, b, c)$, so each candidate costs one
-//! 3×3 solve; candidates cover the front of the sphere ($l_z \ge 0.15$: a light behind the
+//! 3×3 solve; candidates cover the whole front hemisphere ($l_z \ge 0$: a light behind the
 //! sphere cannot be told from a rim light in one picture — give `--light` for one). Pixels the
 //! model cannot explain (highlights, strokes) are left out by a robust reweighting (residuals
-//! beyond 2.5 MAD), and the spread of the near-optimal directions says how sure it is.
+//! beyond 2.5 MAD), and the spread of the near-optimal directions says how sure it is. When
+//! that spread is wide (a MatCap lit by its surroundings), the picture cannot decide: the
+//! light taken is the plausible key light among those directions (upper front), and a note
+//! says so.
 
 use std::path::Path;
 
@@ -31,9 +34,12 @@ use crate::error::{Error, Result};
 use crate::factor::cache::Cache;
 use crate::factor::Settings;
 use crate::images::{neighbours4, Painting, Shrink};
+use crate::note::Note;
 use crate::pipeline::{self, Fitted, Options};
 use crate::scene::{sphere_mesh, Camera, Light, Projection, Scene};
 use crate::sample::{Erosion, PaintedView, SceneSampler};
+
+pub mod edges;
 
 /// Longest side a lit-sphere picture is fitted at: larger pictures are box-filtered down
 /// (a 512² disk holds about 200k samples; more add time, not information).
@@ -73,6 +79,9 @@ pub struct LightEstimate {
     /// Fraction of the disk's pixels the shading model explains (the rest: highlights,
     /// strokes, rim lights).
     pub inliers: f64,
+    /// The picture cannot decide the light (directions over [`UNDECIDED_DEG`] apart explain
+    /// it as well): the direction is the plausible key light among them ([`estimate_light`]).
+    pub undecided: bool,
 }
 
 /// How the sphere's outline was found.
@@ -82,21 +91,66 @@ pub enum Outline {
     Alpha,
     /// A circle fitted to the pixels that differ from the background.
     Background,
+    /// A circle fitted to the arc of the outline that the picture's edges show (a sphere in
+    /// context: on a table, with its shadow, on a textured background).
+    Edges,
     /// No clear outline in a square picture: the disk inscribed in it, as in every MatCap.
     Inscribed,
+    /// Given by the user (`--disk`).
+    Given,
 }
 
-/// Where the sphere is: a circle fitted to the alpha channel when the picture has one, or
-/// else to what is not background (the pixels like the border's median colour, split by
-/// Otsu's threshold, that connect to the border); a square picture without a clear outline
-/// is taken as a MatCap, whose disk is inscribed in it. Errors, one line each: the picture is
-/// all background, no round shape, two shapes.
-pub fn find_disk(p: &Painting, name: &str) -> Result<(Disk, Outline)> {
+/// A disk found in a picture, and how much of its outline the picture shows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Located {
+    pub disk: Disk,
+    pub outline: Outline,
+    /// Share of the whole outline (360°) on which the picture has an edge (alpha's, or
+    /// colour's) within a pixel or so of the circle, with a gradient across it.
+    pub seen: f64,
+}
+
+impl Located {
+    /// The note that reports the disk of the picture `name`, in the file's pixels (`scale`
+    /// of them to one of the picture as fitted).
+    pub fn note(&self, name: &str, scale: f64) -> Note {
+        let d = &self.disk;
+        Note::Disk { picture: name.to_string(), cx: d.cx * scale, cy: d.cy * scale, r: d.r * scale, seen: self.seen, given: self.outline == Outline::Given }
+    }
+}
+
+/// Least share of the outline inside the frame an edge-fitted circle must show to be taken
+/// as the sphere: a square's inscribed circle gets about 40% from its four sides (radial
+/// within 20°, within a pixel), a sphere whose shadow hides its lower third about 60%.
+pub const MIN_SEEN: f64 = 0.5;
+
+/// A circle's edge gradients turn with its arc (a turning of 0, [`edges::turning`]); a
+/// polygon's sides tangent to a circle keep their direction (-1): halfway tells them apart.
+/// (A square's sides cover half of its inscribed circle within tolerance, as a sphere does.)
+const STRAIGHT_TURNING: f64 = -0.5;
+
+/// A circle the edges support better than the segmentation's by this share of the outline
+/// replaces it: a clean MatCap's segmented circle has its whole outline and stays as it was.
+const BETTER_BY: f64 = 0.15;
+
+/// An edge circle this close to a square picture's inscribed one (a share of its radius,
+/// centre and radius) is the MatCap layout, and the disk is the inscribed circle exactly.
+const MATCAP_MATCH: f64 = 0.02;
+
+fn near(a: &Disk, b: &Disk, share: f64) -> bool {
+    let tol = share * b.r;
+    (a.cx - b.cx).hypot(a.cy - b.cy) <= tol && (a.r - b.r).abs() <= tol
+}
+
+/// Where the sphere is: [`find_disk`], with the share of the outline the picture shows.
+pub fn locate(p: &Painting, name: &str) -> Result<Located> {
     let (w, h) = (p.width, p.height);
     let has_alpha = p.alpha.iter().any(|&a| a < 0.5) && p.alpha.iter().any(|&a| a >= 0.5);
     if has_alpha {
         let mask: Vec<bool> = p.alpha.iter().map(|&a| a >= 0.5).collect();
-        return outline_circle(&mask, w, h, name).map(|d| (d, Outline::Alpha));
+        let disk = outline_circle(&mask, w, h, name)?;
+        let edges = edges::points(&[p.alpha.clone()], w, h);
+        return Ok(Located { disk, outline: Outline::Alpha, seen: edges::support(&edges, &disk, w, h).seen });
     }
     let key = border_median(p);
     let distance: Vec<f32> = p.pixels.iter().map(|c| perceptual_distance(c, &key)).collect();
@@ -108,14 +162,67 @@ pub fn find_disk(p: &Painting, name: &str) -> Result<(Disk, Outline)> {
     let like_border: Vec<bool> = distance.iter().map(|&d| d <= t).collect();
     let background = connected_to_border(&like_border, w, h);
     let mask: Vec<bool> = background.iter().map(|&b| !b).collect();
-    match outline_circle(&mask, w, h, name) {
-        Ok(d) => Ok((d, Outline::Background)),
-        Err(_) if w.abs_diff(h) <= 1 => {
-            let r = w.min(h) as f64 / 2.0;
-            Ok((Disk { cx: w as f64 / 2.0, cy: h as f64 / 2.0, r }, Outline::Inscribed))
+    let edges = edges::points(&perceptual_channels(p), w, h);
+    let segmented = outline_circle(&mask, w, h, name);
+    let square = w.abs_diff(h) <= 1;
+    let inscribed = Disk { cx: w as f64 / 2.0, cy: h as f64 / 2.0, r: w.min(h) as f64 / 2.0 };
+    let by_edges = edge_circle(&edges, w, h, name);
+    match (segmented, by_edges) {
+        (Ok(disk), Ok(Some(e))) => {
+            let own = edges::support(&edges, &disk, w, h);
+            Ok(if e.seen_in_frame > own.seen_in_frame + BETTER_BY {
+                Located { disk: e.disk, outline: Outline::Edges, seen: e.seen }
+            } else {
+                Located { disk, outline: Outline::Background, seen: own.seen }
+            })
         }
-        Err(e) => Err(e),
+        (Ok(disk), _) => Ok(Located { disk, outline: Outline::Background, seen: edges::support(&edges, &disk, w, h).seen }),
+        (Err(_), Ok(Some(e))) if !(square && near(&e.disk, &inscribed, MATCAP_MATCH)) => Ok(Located { disk: e.disk, outline: Outline::Edges, seen: e.seen }),
+        (Err(_), Err(two)) => Err(two),
+        (Err(_), _) if square => Ok(Located { disk: inscribed, outline: Outline::Inscribed, seen: edges::support(&edges, &inscribed, w, h).seen }),
+        (Err(e), _) => Err(e),
     }
+}
+
+/// Where the sphere is: a circle fitted to the alpha channel when the picture has one, or
+/// else to what is not background (the pixels like the border's median colour, split by
+/// Otsu's threshold, that connect to the border), or, where that is not round (a sphere on
+/// a table with its shadow, on a textured background), to the arc of the outline the edges
+/// show ([`edges`]); a square picture without a clear outline is taken as a MatCap, whose
+/// disk is inscribed in it. Errors, one line each: the picture is all background, no round
+/// shape, two shapes.
+pub fn find_disk(p: &Painting, name: &str) -> Result<(Disk, Outline)> {
+    locate(p, name).map(|l| (l.disk, l.outline))
+}
+
+/// The circle the picture's edges support best, if it shows at least [`MIN_SEEN`] of its
+/// outline inside the frame. Error: two disjoint circles both that well supported.
+fn edge_circle(edges: &[edges::Edge], w: usize, h: usize, name: &str) -> Result<Option<edges::Support>> {
+    // A sphere is at least a tenth of the picture's shorter side (smaller ones are not
+    // exemplars), and may be cut by the frame: up to the longer side across.
+    let (r_min, r_max) = ((w.min(h) as f64 / 10.0).max(4.0), w.max(h) as f64 / 2.0);
+    let good: Vec<edges::Support> = edges::circles(edges, w, h, r_min, r_max)
+        .into_iter()
+        .filter(|s| s.seen_in_frame >= MIN_SEEN && edges::turning(edges, &s.disk) > STRAIGHT_TURNING)
+        .collect();
+    let Some(best) = good.first().copied() else { return Ok(None) };
+    let apart = |a: &Disk, b: &Disk| ((a.cx - b.cx).powi(2) + (a.cy - b.cy).powi(2)).sqrt() >= 0.95 * (a.r + b.r);
+    // A second sphere shows most of its own outline (not just a short arc inside the frame,
+    // as a circle through the horizon or the frame's corner can) and about as much of it.
+    let rival = |s: &edges::Support| apart(&s.disk, &best.disk) && s.seen >= MIN_SEEN && s.seen * s.disk.r >= 0.5 * best.seen * best.disk.r;
+    if let Some(other) = good.iter().skip(1).find(|s| rival(s)) {
+        return Err(Error::input(format!(
+            "{name}: two shapes (circles of radius {:.0} and {:.0} pixels): give a picture of one sphere",
+            best.disk.r, other.disk.r
+        )));
+    }
+    Ok(Some(best))
+}
+
+/// The picture's channels as square roots of linear values (roughly perceptual, as
+/// [`perceptual_distance`]).
+fn perceptual_channels(p: &Painting) -> Vec<Vec<f32>> {
+    (0..3).map(|c| p.pixels.iter().map(|x| x[c].max(0.0).sqrt()).collect()).collect()
 }
 
 /// The pixels of `mask` connected (4-neighbours) to the picture's border through `mask`.
@@ -306,8 +413,8 @@ fn luminance(c: &[f32; 3]) -> f64 {
     crate::images::luminance(c.map(f64::from))
 }
 
-/// Directions towards the front of the sphere ($l_z \ge 0.15$), about evenly spread
-/// (a Fibonacci spiral of `n` points over the whole sphere, the front ones kept).
+/// Directions towards the front of the sphere ($l_z \ge$ [`MIN_LIGHT_Z`]), about evenly
+/// spread (a Fibonacci spiral of `n` points over the whole sphere, the front ones kept).
 fn front_directions(n: usize) -> Vec<DVec3> {
     let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
     (0..n)
@@ -321,8 +428,32 @@ fn front_directions(n: usize) -> Vec<DVec3> {
         .collect()
 }
 
-/// The estimate stays in front of the sphere: $l_z$ at least this (81° from the view).
-pub const MIN_LIGHT_Z: f64 = 0.15;
+/// The estimate stays in front of the sphere, the whole front hemisphere: one picture
+/// cannot tell a light behind from a rim light (give `--light` for one).
+pub const MIN_LIGHT_Z: f64 = 0.0;
+
+/// A direction explains the shading "as well" as the best when its cost is within this
+/// factor of the best's: the misfit of a painted or environment-lit sphere is structured
+/// (strokes, reflections), not pixel noise, so a 10% change is the smallest that shows.
+const AS_WELL: f64 = 1.1;
+
+/// The picture cannot decide the light when directions this far apart (degrees) explain
+/// it as well: a sphere under one key light pins it to a few degrees (rendered spheres:
+/// under 15°, tests/lit_sphere.rs); a MatCap lit by its surroundings leaves a wide region.
+pub const UNDECIDED_DEG: f64 = 30.0;
+
+/// The plausible key light when the picture cannot decide: from the upper front (45° above
+/// the view), the photographer's and painter's default.
+pub const KEY: DVec3 = DVec3::new(0.0, std::f64::consts::FRAC_1_SQRT_2, std::f64::consts::FRAC_1_SQRT_2);
+
+/// Concentration of the prior around [`KEY`] (von Mises–Fisher): broad, about 40° wide, so
+/// among directions that explain the picture as well it prefers the upper front without
+/// putting every undecided picture on the same point.
+const KEY_CONCENTRATION: f64 = 2.0;
+
+/// Width of the likelihood in relative cost: a direction [`AS_WELL`] from the best weighs
+/// $e^{-2}$ of it.
+const COST_WIDTH: f64 = 0.05;
 
 /// Weighted least-squares cost of the shading model under light `l` (module docs), with
 /// its coefficients; `None` when the fit would need light to darken the lit side.
@@ -362,7 +493,34 @@ fn model_cost(l: DVec3, normals: &[DVec3], y: &[f64], weight: &[f64]) -> Option<
 }
 
 /// Estimates the key light of a lit sphere (module docs). At most 4000 disk pixels are used.
+/// When directions more than [`UNDECIDED_DEG`] apart explain the shading as well, the
+/// picture cannot decide: the estimate is the mean of those directions weighted by how well
+/// they explain it and by a broad prior around the upper front ([`KEY`]), and `undecided`.
 pub fn estimate_light(p: &Painting, disk: &Disk) -> Result<LightEstimate> {
+    let (normals, y) = disk_samples(p, disk)?;
+    let coarse = front_directions(6000);
+    let (mut best, mut cost, weight) = robust_best(&coarse, &normals, &y)?;
+    // Refine in a cap of 4° around the best.
+    let fine: Vec<DVec3> = cap(best, 4f64.to_radians(), 600);
+    let costs = |dirs: &[DVec3]| -> Vec<(DVec3, f64)> { dirs.iter().filter_map(|&l| model_cost(l, &normals, &y, &weight).map(|(c, _)| (l, c))).collect() };
+    let mut scored = costs(&coarse);
+    scored.extend(costs(&fine));
+    if let Some(&(b, c)) = scored.iter().min_by(|a, b| a.1.total_cmp(&b.1)) {
+        if c < cost {
+            (best, cost) = (b, c);
+        }
+    }
+    let plausible: Vec<(DVec3, f64)> = scored.into_iter().filter(|(_, c)| *c <= AS_WELL * cost).collect();
+    let widest = |d: DVec3| plausible.iter().map(|(l, _)| l.angle_between(d)).fold(0.0f64, f64::max);
+    let undecided = widest(best).to_degrees() > UNDECIDED_DEG;
+    let direction = if undecided { key_light(&plausible, cost) } else { best };
+    let inliers = weight.iter().sum::<f64>() / weight.len() as f64;
+    Ok(LightEstimate { direction, spread_deg: widest(direction).to_degrees(), inliers, undecided })
+}
+
+/// The disk's normals and luminances, off the rim (where normals are steep and edges mix
+/// with the background), on a grid of at most about 4000 pixels.
+fn disk_samples(p: &Painting, disk: &Disk) -> Result<(Vec<DVec3>, Vec<f64>)> {
     let (mut normals, mut y) = (Vec::new(), Vec::new());
     let total = (std::f64::consts::PI * disk.r * disk.r) as usize;
     let stride = ((total as f64 / 4000.0).sqrt().floor() as usize).max(1);
@@ -372,7 +530,6 @@ pub fn estimate_light(p: &Painting, disk: &Disk) -> Result<LightEstimate> {
             if p.alpha[k] <= 0.0 {
                 continue;
             }
-            // Off the rim, where normals are steep and edges mix with the background.
             if let Some(n) = disk.normal(i, j, 0.95) {
                 normals.push(n);
                 y.push(luminance(&p.pixels[k]));
@@ -382,45 +539,57 @@ pub fn estimate_light(p: &Painting, disk: &Disk) -> Result<LightEstimate> {
     if normals.len() < 32 {
         return Err(Error::input("the sphere is too small or too transparent to estimate its light"));
     }
-    let best_of = |dirs: &[DVec3], weight: &[f64]| -> Option<(DVec3, f64, [f64; 3])> {
+    Ok((normals, y))
+}
+
+/// The best of `dirs` under the shading model, with pixels the model misses by far
+/// (highlights, strokes, rim lights: residuals beyond 2.5 MAD) left out so they stop pulling
+/// the light towards them: its direction, cost and the pixels' weights.
+fn robust_best(dirs: &[DVec3], normals: &[DVec3], y: &[f64]) -> Result<(DVec3, f64, Vec<f64>)> {
+    let best_of = |weight: &[f64]| -> Result<(DVec3, f64, [f64; 3])> {
         dirs.iter()
-            .filter_map(|&l| model_cost(l, &normals, &y, weight).map(|(c, s)| (l, c, s)))
+            .filter_map(|&l| model_cost(l, normals, y, weight).map(|(c, s)| (l, c, s)))
             .min_by(|a, b| a.1.total_cmp(&b.1))
+            .ok_or_else(|| Error::input("no light explains the sphere's shading"))
     };
-    let coarse = front_directions(6000);
     let mut weight = vec![1.0; normals.len()];
-    let (mut best, mut cost, mut coef) = best_of(&coarse, &weight).ok_or_else(|| Error::input("no light explains the sphere's shading"))?;
-    // Robust reweighting: pixels the model misses by far (highlights, strokes, rim lights)
-    // stop pulling the light towards them.
+    let (mut best, mut cost, mut coef) = best_of(&weight)?;
     for _ in 0..3 {
         let residual: Vec<f64> = normals
             .iter()
-            .zip(&y)
+            .zip(y)
             .map(|(n, &yv)| {
                 let c = n.dot(best);
                 coef[0] + coef[1] * c.max(0.0) + coef[2] * c.min(0.0) - yv
             })
             .collect();
-        let mut abs: Vec<f64> = residual.iter().map(|r| r.abs()).collect();
+        // The scale from the pixels at or below the model only: a highlight only adds light
+        // (specular over diffuse), so a glossy lobe's broad tail inflates the spread above
+        // the prediction and, measured on both sides, would pass as shading and bend the
+        // light towards it; below the prediction the spread is the shading's own.
+        let mut abs: Vec<f64> = residual.iter().filter(|&&r| r >= 0.0).copied().collect();
+        if abs.len() < 8 {
+            abs = residual.iter().map(|r| r.abs()).collect();
+        }
         abs.sort_by(f64::total_cmp);
         let sigma = (1.4826 * abs[abs.len() / 2]).max(1e-6 * y.iter().cloned().fold(0.0, f64::max));
         weight = residual.iter().map(|r| if r.abs() <= 2.5 * sigma { 1.0 } else { 0.0 }).collect();
-        (best, cost, coef) = best_of(&coarse, &weight).ok_or_else(|| Error::input("no light explains the sphere's shading"))?;
+        (best, cost, coef) = best_of(&weight)?;
     }
-    // Refine in a cap of 4° around the best, and measure how flat the minimum is.
-    let fine: Vec<DVec3> = cap(best, 4f64.to_radians(), 600);
-    if let Some((b, c, _)) = best_of(&fine, &weight) {
-        if c < cost {
-            (best, cost) = (b, c);
-        }
-    }
-    let spread = coarse
+    Ok((best, cost, weight))
+}
+
+/// The mean of the `plausible` directions (with their costs; `best` the least) weighted by
+/// $e^{-(c/c_{best} - 1)/w}$ ([`COST_WIDTH`]) times the prior $e^{\kappa (l \cdot K - 1)}$
+/// ([`KEY`], [`KEY_CONCENTRATION`]): a posterior mean, continuous in the picture.
+fn key_light(plausible: &[(DVec3, f64)], best: f64) -> DVec3 {
+    let sum: DVec3 = plausible
         .iter()
-        .chain(&fine)
-        .filter_map(|&l| model_cost(l, &normals, &y, &weight).filter(|(c, _)| *c <= 1.1 * cost).map(|_| l.angle_between(best)))
-        .fold(0.0f64, f64::max);
-    let inliers = weight.iter().sum::<f64>() / weight.len() as f64;
-    Ok(LightEstimate { direction: best, spread_deg: spread.to_degrees(), inliers })
+        .map(|&(l, c)| l * (-(c / best.max(1e-300) - 1.0) / COST_WIDTH + KEY_CONCENTRATION * (l.dot(KEY) - 1.0)).exp())
+        .sum();
+    let mean = sum.normalize_or(KEY);
+    // In front, as every candidate is (a mean of front directions is in front).
+    DVec3::new(mean.x, mean.y, mean.z.max(MIN_LIGHT_Z)).normalize()
 }
 
 /// About `n` directions within `angle` of `centre`, in front of the sphere.
@@ -519,6 +688,10 @@ pub struct Picture {
     pub painting: Painting,
     pub disk: Disk,
     pub outline: Outline,
+    /// Share of the outline the picture shows ([`Located::seen`]).
+    pub seen: f64,
+    /// The file's pixels to one of `painting` (the factor it was shrunk by).
+    pub scale: f64,
 }
 
 impl Picture {
@@ -527,22 +700,38 @@ impl Picture {
     /// The picture is decoded and shrunk in passing (a 4096² PNG is never held at full
     /// size), and its shape checked from its header.
     pub fn read(path: &Path, max_side: usize) -> Result<Picture> {
+        Picture::read_in(path, max_side, None)
+    }
+
+    /// [`Picture::read`], with the disk `given` by the user (pixels of the file as it is,
+    /// before any shrinking) instead of found. Errors, one line: a disk that is not a circle
+    /// of a few pixels or more on the picture.
+    pub fn read_in(path: &Path, max_side: usize, given: Option<Disk>) -> Result<Picture> {
         let name = path.display().to_string();
         let max_side = max_side.max(MIN_SIDE);
-        let (painting, _) = Painting::read_shrunk(path, max_side, |w, h| check_shape(&name, w, h, max_side))?;
-        Picture::found(name, painting)
+        let (painting, f) = Painting::read_shrunk(path, max_side, |w, h| check_shape(&name, w, h, max_side))?;
+        let located = match given {
+            Some(d) => {
+                let f = f as f64;
+                given_disk(&painting, Disk { cx: d.cx / f, cy: d.cy / f, r: d.r / f }, d, &name)?
+            }
+            None => locate(&painting, &name)?,
+        };
+        Ok(Picture::found(name, painting, located, f as f64))
     }
 
     /// [`Picture::read`] of a painting already in memory, named `name`.
     pub fn new(name: String, original: &Painting, max_side: usize) -> Result<Picture> {
         let max_side = max_side.max(MIN_SIDE);
         check_shape(&name, original.width, original.height, max_side)?;
-        Picture::found(name, shrink(original, max_side).0)
+        let (painting, f) = shrink(original, max_side);
+        let located = locate(&painting, &name)?;
+        Ok(Picture::found(name, painting, located, f as f64))
     }
 
-    /// The picture of an already shrunk painting: its disk found, the rest unpainted.
-    fn found(name: String, mut painting: Painting) -> Result<Picture> {
-        let (disk, outline) = find_disk(&painting, &name)?;
+    /// The picture of an already shrunk painting with its disk: the rest unpainted.
+    fn found(name: String, mut painting: Painting, located: Located, scale: f64) -> Picture {
+        let Located { disk, outline, seen } = located;
         // Only the sphere is paint: the background (and the rim, which mixes with it) is not.
         for j in 0..painting.height {
             for i in 0..painting.width {
@@ -551,7 +740,17 @@ impl Picture {
                 }
             }
         }
-        Ok(Picture { name, painting, disk, outline })
+        Picture { name, painting, disk, outline, seen, scale }
+    }
+
+    /// The note that reports the disk ([`Located::note`]).
+    pub fn disk_note(&self) -> Note {
+        self.located().note(&self.name, self.scale)
+    }
+
+    /// The located disk ([`Located`]).
+    pub fn located(&self) -> Located {
+        Located { disk: self.disk, outline: self.outline, seen: self.seen }
     }
 
     /// The key light estimated from the shading ([`estimate_light`]).
@@ -563,6 +762,27 @@ impl Picture {
     pub fn scene(&self, light: DVec3) -> Scene {
         scene(&self.disk, self.painting.width, self.painting.height, light)
     }
+}
+
+/// The disk a user gave (`as_given`, in the file's pixels; `disk`, the same in the shrunk
+/// `painting`'s), checked: a circle of at least 4 pixels whose inside is mostly in the picture.
+fn given_disk(painting: &Painting, disk: Disk, as_given: Disk, name: &str) -> Result<Located> {
+    let Disk { cx, cy, r } = as_given;
+    let shown = format!("--disk {cx},{cy},{r}");
+    if !(cx.is_finite() && cy.is_finite() && r.is_finite()) || r <= 0.0 {
+        return Err(Error::input(format!("{shown}: the disk needs a centre X,Y and a radius above 0, in pixels")));
+    }
+    if disk.r < 4.0 {
+        return Err(Error::input(format!("{shown}: a radius of {:.1} pixels in the picture as fitted (shrunk to {} pixels a side) is too small for a sphere: it needs 4", disk.r, painting.width.max(painting.height))));
+    }
+    let (w, h) = (painting.width, painting.height);
+    let inside = (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).filter(|&(i, j)| disk.normal(i, j, 1.0).is_some()).count();
+    let area = std::f64::consts::PI * disk.r * disk.r;
+    if (inside as f64) < 0.5 * area {
+        return Err(Error::input(format!("{shown}: less than half of that disk lies on {name} ({}x{} pixels)", painting.width, painting.height)));
+    }
+    let seen = edges::support(&edges::points(&perceptual_channels(painting), w, h), &disk, w, h).seen;
+    Ok(Located { disk, outline: Outline::Given, seen })
 }
 
 /// `light` as a unit direction. Errors: zero or not finite (one line).
@@ -581,6 +801,8 @@ pub struct LitSphere {
     pub scene: Scene,
     pub disk: Disk,
     pub outline: Outline,
+    /// Share of the outline the picture shows ([`Located::seen`]).
+    pub seen: f64,
     /// `None` when the user gave the light.
     pub estimate: Option<LightEstimate>,
     pub light: DVec3,
@@ -606,8 +828,13 @@ pub fn fit(path: &Path, light: Option<DVec3>, opts: &Options, cache: Option<&Cac
 
 /// [`fit`], with the picture box-filtered to at most `max_side` pixels a side.
 pub fn fit_sized(path: &Path, light: Option<DVec3>, opts: &Options, cache: Option<&Cache>, max_side: usize) -> Result<LitSphere> {
+    fit_in(path, light, None, opts, cache, max_side)
+}
+
+/// [`fit_sized`], with the disk given (`disk`: pixels of the file as it is) or found.
+pub fn fit_in(path: &Path, light: Option<DVec3>, disk: Option<Disk>, opts: &Options, cache: Option<&Cache>, max_side: usize) -> Result<LitSphere> {
     let opts = &Options { settings: settings(&opts.settings), ..opts.clone() };
-    let picture = Picture::read(path, max_side)?;
+    let picture = Picture::read_in(path, max_side, disk)?;
     let (light, estimate) = match light {
         Some(l) => (direction(l).map_err(|e| Error::input(format!("--{e}")))?, None),
         None => {
@@ -616,12 +843,16 @@ pub fn fit_sized(path: &Path, light: Option<DVec3>, opts: &Options, cache: Optio
         }
     };
     let scene = picture.scene(light);
-    let Picture { name, painting, disk, outline } = picture;
+    let disk_note = picture.disk_note();
+    let Picture { name, painting, disk, outline, seen, .. } = picture;
     let mut sampler = SceneSampler::new()?;
     let geometry = sampler.geometry(&scene, painting.width, painting.height, Erosion::default())?;
     let view = PaintedView { name: name.clone(), source: format!("{name} (lit sphere)"), geometry, painting };
-    let fitted = pipeline::fit(std::slice::from_ref(&view), opts, cache)?;
-    Ok(LitSphere { fitted, view, scene, disk, outline, estimate, light })
+    let mut fitted = pipeline::fit(std::slice::from_ref(&view), opts, cache)?;
+    // Where the disk is and how sure the light is come first, with the material's provenance.
+    let undecided = estimate.filter(|e| e.undecided).map(|e| Note::LightUndecided { picture: name.clone(), spread_deg: e.spread_deg });
+    fitted.prepend_notes(&std::iter::once(disk_note).chain(undecided).collect::<Vec<_>>());
+    Ok(LitSphere { fitted, view, scene, disk, outline, seen, estimate, light })
 }
 
 #[cfg(test)]

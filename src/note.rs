@@ -57,6 +57,13 @@ pub enum Note {
     Encodings { linear: usize, srgb: usize, float: usize },
     /// How many of the photographs' object pixels are samples, and why the others are not.
     PhotoSamples { images: usize, object: usize, kept: usize, saturated: usize, unlit: usize, dark: usize },
+    /// Where a lit sphere's disk is (pixels of the file: centre, radius) and the share of
+    /// its outline the picture shows there (`seen`, 0 to 1); `given` by the user or found.
+    Disk { picture: String, cx: f64, cy: f64, r: f64, seen: f64, given: bool },
+    /// A lit sphere's light that the picture cannot decide: directions up to `spread_deg`
+    /// from the one chosen explain its shading as well, and the plausible key light among
+    /// them (upper front) was taken.
+    LightUndecided { picture: String, spread_deg: f64 },
     /// A scene with several cameras or lights (`what`), of which the first (`used`) is used.
     FirstOfMany { scene: String, what: &'static str, count: usize, used: String },
 }
@@ -82,6 +89,10 @@ pub enum Remedy {
     CameraDirection,
     /// Say how the photographs' codes are encoded.
     Encoding,
+    /// Give the lit sphere's disk.
+    GiveDisk,
+    /// Give the lit sphere's light.
+    GiveLight,
 }
 
 impl Note {
@@ -97,12 +108,15 @@ impl Note {
             Note::Regional { .. } => Some(Remedy::MaterialMap),
             Note::FacingAway { camera_given: false, .. } => Some(Remedy::CameraDirection),
             Note::Encodings { .. } => Some(Remedy::Encoding),
+            Note::Disk { given: false, .. } => Some(Remedy::GiveDisk),
+            Note::LightUndecided { .. } => Some(Remedy::GiveLight),
             Note::Page { .. }
             | Note::TonesLobe { .. }
             | Note::FresnelUnseen { .. }
             | Note::FirstOfMany { .. }
             | Note::FacingAway { camera_given: true, .. }
-            | Note::PhotoSamples { .. } => None,
+            | Note::PhotoSamples { .. }
+            | Note::Disk { given: true, .. } => None,
         }
     }
 
@@ -179,6 +193,20 @@ impl fmt::Display for Note {
                 if *images == 1 { "" } else { "s" },
                 unlit + dark
             ),
+            Note::Disk { picture, cx, cy, r, seen, given: false } => {
+                write!(f, "{}: disk at ({cx:.1}, {cy:.1}), radius {r:.1}, from {:.0}% of its outline", one_line(picture), 100.0 * seen)
+            }
+            Note::Disk { picture, cx, cy, r, seen, given: true } => write!(
+                f,
+                "{}: disk at ({cx:.1}, {cy:.1}), radius {r:.1}, as given; the picture shows {:.0}% of that outline",
+                one_line(picture),
+                100.0 * seen
+            ),
+            Note::LightUndecided { picture, spread_deg } => write!(
+                f,
+                "{}: the shading does not decide the light (lit by its surroundings: directions up to {spread_deg:.0}° apart explain it as well); took the plausible key light among them, the one nearest the upper front",
+                one_line(picture)
+            ),
             Note::FirstOfMany { scene, what, count, used } => {
                 write!(f, "{} has {count} {what}; {} is used (the first in node order), the others are ignored", one_line(scene), one_line(used))
             }
@@ -208,11 +236,14 @@ mod tests {
             Note::FacingAway { map: "n.png".into(), percent: 40.0, camera_given: false },
             Note::Encodings { linear: 2, srgb: 0, float: 1 },
             Note::PhotoSamples { images: 3, object: 100, kept: 80, saturated: 5, unlit: 10, dark: 5 },
+            Note::Disk { picture: "s.jpg".into(), cx: 100.0, cy: 90.5, r: 60.0, seen: 0.78, given: false },
+            Note::Disk { picture: "s.jpg".into(), cx: 100.0, cy: 90.5, r: 60.0, seen: 0.78, given: true },
+            Note::LightUndecided { picture: "m.exr".into(), spread_deg: 40.0 },
         ];
         for note in &notes {
             let line = note.to_string();
             assert!(!line.contains('\n') && !line.contains("--"), "{line}");
         }
-        assert_eq!(notes.iter().filter(|n| n.remedy().is_some()).count(), 9);
+        assert_eq!(notes.iter().filter(|n| n.remedy().is_some()).count(), 11);
     }
 }

@@ -77,6 +77,11 @@ pub(super) struct FitArgs {
     /// map's frame, and its colour × intensity R,G,B (divided out; default 1,1,1).
     #[arg(long, value_name = "X,Y,Z[,R,G,B]", value_parser = photos::parse_light, allow_hyphen_values = true, conflicts_with_all = ["merl", "scene", "photos"])]
     light: Vec<LightArg>,
+    /// With --lit-sphere: the sphere's outline, a circle of centre CX,CY and radius R in the
+    /// picture's pixels (x right, y down from its top-left corner), instead of the one found.
+    /// Everything outside it is not a sample.
+    #[arg(long, value_name = "CX,CY,R", value_parser = parse_disk, allow_hyphen_values = true, requires = "lit_sphere")]
+    disk: Option<litsphere::Disk>,
     /// A folder of photographs in the photometric-stereo layout (DiLiGenT's): the images,
     /// filenames.txt naming them, light_directions.txt (one x y z per image),
     /// light_intensities.txt (one r g b per image), mask.png and a normal map (normal.exr,
@@ -254,6 +259,7 @@ pub(super) fn run(args: FitArgs) -> std::result::Result<(), Failure> {
             let inputs = library::gather(&args.lit_sphere)?;
             match inputs.pictures.as_slice() {
                 [one] if !inputs.is_library() => Ok(run_lit_sphere(&one.path, &args, &opts)?),
+                _ if args.disk.is_some() => Err(Failure::Usage("--disk gives the circle of one picture, not of a library".into())),
                 _ => {
                     let max_side = args.max_side.unwrap_or(super::library::MAX_SIDE);
                     Ok(super::library::run(&inputs, args.light.first().map(|l| l.direction), &opts, max_side, &args.out)?)
@@ -307,22 +313,15 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
 fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
     let light = args.light.first().map(|l| l.direction);
     let max_side = args.max_side.unwrap_or(litsphere::MAX_SIDE);
-    let lit = litsphere::fit_sized(image, light, opts, Cache::user().as_ref(), max_side)?;
-    let d = &lit.disk;
+    let lit = litsphere::fit_in(image, light, args.disk, opts, Cache::user().as_ref(), max_side)?;
     let how = match lit.outline {
         litsphere::Outline::Alpha => "its alpha",
         litsphere::Outline::Background => "its background",
+        litsphere::Outline::Edges => "the arc its edges show",
         litsphere::Outline::Inscribed => "none clear: taken as a MatCap, the disk inscribed in the square",
+        litsphere::Outline::Given => "--disk",
     };
-    println!(
-        "{}: sphere at ({:.1}, {:.1}), radius {:.1} px of {}x{} (outline from {how})",
-        image.display(),
-        d.cx,
-        d.cy,
-        d.r,
-        lit.view.painting.width,
-        lit.view.painting.height
-    );
+    println!("{}: outline from {how}; fitted at {}x{} pixels", image.display(), lit.view.painting.width, lit.view.painting.height);
     let l = lit.light;
     match &lit.estimate {
         Some(e) => println!(
@@ -357,6 +356,17 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
     Ok(())
 }
 
+/// `CX,CY,R`: three finite numbers, the radius above 0.
+fn parse_disk(text: &str) -> std::result::Result<litsphere::Disk, String> {
+    let bad = || format!("'{text}' is not a disk CX,CY,R (centre and radius in pixels, e.g. 240,200,150)");
+    let v: Vec<f64> = text.split(',').map(|p| p.trim().parse::<f64>()).collect::<std::result::Result<_, _>>().map_err(|_| bad())?;
+    match v[..] {
+        [cx, cy, r] if cx.is_finite() && cy.is_finite() && r.is_finite() && r > 0.0 => Ok(litsphere::Disk { cx, cy, r }),
+        [_, _, _] => Err(format!("'{text}': the centre must be finite and the radius above 0")),
+        _ => Err(bad()),
+    }
+}
+
 /// Prints a note, with the option that changes what it describes.
 pub(super) fn say(note: &Note) {
     let hint = note.remedy().map(|r| match r {
@@ -369,6 +379,8 @@ pub(super) fn say(note: &Note) {
         Remedy::MaterialMap => "try --kind material-map",
         Remedy::CameraDirection => "for a world-space normal map give --camera-dir X,Y,Z, toward the camera in the map's frame",
         Remedy::Encoding => "--encoding srgb|linear says how",
+        Remedy::GiveDisk => "--disk CX,CY,R gives it",
+        Remedy::GiveLight => "--light X,Y,Z gives it",
     });
     let prefix = if note.is_warning() { "" } else { "note: " };
     match hint {

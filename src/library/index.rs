@@ -62,6 +62,8 @@ fn outline(o: Outline) -> &'static str {
         Outline::Alpha => "from the picture's alpha",
         Outline::Background => "from its background",
         Outline::Inscribed => "a MatCap: the disk inscribed in the square",
+        Outline::Edges => "from the arc its edges show",
+        Outline::Given => "given with --disk",
     }
 }
 
