@@ -114,9 +114,9 @@ fn object_luminance(image: &brdfpaint::render::Image, w: usize, h: usize) -> f64
 
 #[test]
 fn every_bundled_matcap_darkens_when_the_light_goes_behind() {
-    // The issue asks for 0.5; README states 0.41 for every one of the 23 MatCaps (the fits
-    // are deterministic: resin's 0.405 is the largest, see the end).
-    const DARKEST: f64 = 0.41;
+    // The issue asks for 0.5; README states 0.46 for every one of the 23 MatCaps (the fits
+    // are deterministic: the reflection checks' 0.458 and 0.452 are the largest, see the end).
+    const DARKEST: f64 = 0.46;
     let ctx = HeadlessContext::new().unwrap();
     let mut renderer = Renderer::new(ctx.gl()).unwrap();
     let scene = Scene::from_preset("bunny", "front").unwrap();
@@ -154,8 +154,9 @@ fn every_bundled_matcap_darkens_when_the_light_goes_behind() {
             failures.push(format!("{stem}: darkest frame {lo:.4} > {DARKEST} x brightest {hi:.4}"));
         }
     }
-    // Measured (darkest/brightest): resin 0.405, the reflection checks 0.375, every other
-    // MatCap 0.35 or less. Before the lit-sphere light prior (litsphere::settings) three did
+    // Measured (darkest/brightest): the reflection checks 0.458 and 0.452 (lit by an
+    // environment, their light is undecided and taken as the plausible upper-front key,
+    // z 0.38 and 0.56), resin 0.361, every other MatCap 0.28 or less. Before the lit-sphere light prior (litsphere::settings) three did
     // not darken to 0.5 (check_rim_dark 0.53, pearl 0.68, resin 0.67; the reflection checks
     // 0.62): lit from at or near the viewer, their pictures fix little more than the product
     // p q r along θ_l = θ_h = θ_v, and the Laplacian's split of it left p(θ_l) rising towards
