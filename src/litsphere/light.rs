@@ -1,0 +1,225 @@
+//! The key light of a lit-sphere picture: the direction over the whole front hemisphere
+//! whose Lambertian shading, with a robust weight, best explains the disk's luminance, and
+//! how sure that is ([`estimate_light`]).
+
+use glam::{DMat3, DVec3};
+
+use super::Disk;
+use crate::error::{Error, Result};
+use crate::images::Painting;
+
+/// The estimated key light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightEstimate {
+    /// Unit direction towards the light, view frame (x right, y up, z to the viewer).
+    pub direction: DVec3,
+    /// Angle within which other directions explain the shading almost as well (their cost
+    /// within 10% of the best), degrees: small means sure.
+    pub spread_deg: f64,
+    /// Fraction of the disk's pixels the shading model explains (the rest: highlights,
+    /// strokes, rim lights).
+    pub inliers: f64,
+    /// The picture cannot decide the light (directions over [`UNDECIDED_DEG`] apart explain
+    /// it as well): the direction is the plausible key light among them ([`estimate_light`]).
+    pub undecided: bool,
+}
+
+/// Rec. 709 luminance of linear RGB.
+fn luminance(c: &[f32; 3]) -> f64 {
+    crate::images::luminance(c.map(f64::from))
+}
+
+/// Directions towards the front of the sphere ($l_z \ge$ [`MIN_LIGHT_Z`]), about evenly
+/// spread (a Fibonacci spiral of `n` points over the whole sphere, the front ones kept).
+fn front_directions(n: usize) -> Vec<DVec3> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..n)
+        .map(|k| {
+            let z = 1.0 - 2.0 * (k as f64 + 0.5) / n as f64;
+            let r = (1.0 - z * z).sqrt();
+            let phi = golden * k as f64;
+            DVec3::new(r * phi.cos(), r * phi.sin(), z)
+        })
+        .filter(|d| d.z >= MIN_LIGHT_Z)
+        .collect()
+}
+
+/// The estimate stays in front of the sphere, the whole front hemisphere: one picture
+/// cannot tell a light behind from a rim light (give `--light` for one).
+pub const MIN_LIGHT_Z: f64 = 0.0;
+
+/// A direction explains the shading "as well" as the best when its cost is within this
+/// factor of the best's: the misfit of a painted or environment-lit sphere is structured
+/// (strokes, reflections), not pixel noise, so a 10% change is the smallest that shows.
+const AS_WELL: f64 = 1.1;
+
+/// The picture cannot decide the light when directions this far apart (degrees) explain
+/// it as well: a sphere under one key light pins it to a few degrees (rendered spheres:
+/// under 15°, tests/lit_sphere.rs); a MatCap lit by its surroundings leaves a wide region.
+pub const UNDECIDED_DEG: f64 = 30.0;
+
+/// The plausible key light when the picture cannot decide: from the upper front (45° above
+/// the view), the photographer's and painter's default.
+pub const KEY: DVec3 = DVec3::new(0.0, std::f64::consts::FRAC_1_SQRT_2, std::f64::consts::FRAC_1_SQRT_2);
+
+/// Concentration of the prior around [`KEY`] (von Mises–Fisher): broad, about 40° wide, so
+/// among directions that explain the picture as well it prefers the upper front without
+/// putting every undecided picture on the same point.
+const KEY_CONCENTRATION: f64 = 2.0;
+
+/// Width of the likelihood in relative cost: a direction [`AS_WELL`] from the best weighs
+/// $e^{-2}$ of it.
+const COST_WIDTH: f64 = 0.05;
+
+/// Weighted least-squares cost of the shading model under light `l` (module docs), with
+/// its coefficients; `None` when the fit would need light to darken the lit side.
+fn model_cost(l: DVec3, normals: &[DVec3], y: &[f64], weight: &[f64]) -> Option<(f64, [f64; 3])> {
+    // One pass of sums: the features are (1, c⁺, c⁻) with c⁺ c⁻ = 0, so the normal equations
+    // and the cost need only these nine (the search makes thousands of passes per picture).
+    let mut t = [0.0f64; 9];
+    for ((n, &yv), &wt) in normals.iter().zip(y).zip(weight) {
+        let c = n.dot(l);
+        let (p, m) = (c.max(0.0), c.min(0.0));
+        let terms = [1.0, p, m, p * p, m * m, yv, yv * p, yv * m, yv * yv];
+        for (s, x) in t.iter_mut().zip(terms) {
+            *s += wt * x;
+        }
+    }
+    let solve = |cols: usize| -> Option<(f64, [f64; 3])> {
+        let keep = if cols == 2 { 0.0 } else { 1.0 };
+        let gram = DMat3::from_cols(DVec3::new(t[0], t[1], t[2] * keep), DVec3::new(t[1], t[3], 0.0), DVec3::new(t[2] * keep, 0.0, t[4] * keep));
+        let rhs = DVec3::new(t[5], t[6], t[7] * keep);
+        // A tiny ridge: with the light at the viewer no pixel is unlit and c has no data.
+        let mut m = gram + DMat3::from_diagonal(DVec3::splat(1e-9 * (t[0] + 1.0)));
+        if cols == 2 {
+            m.z_axis.z = 1.0;
+        }
+        let s = m.inverse() * rhs;
+        if !s.is_finite() || s.y < 0.0 {
+            return None;
+        }
+        // Σ w (f·s − y)², from the same sums.
+        let cost = (s.dot(gram * s) - 2.0 * s.dot(rhs) + t[8]).max(0.0);
+        Some((cost, s.to_array()))
+    };
+    match solve(3) {
+        Some((cost, s)) if s[2] >= 0.0 => Some((cost, s)),
+        _ => solve(2),
+    }
+}
+
+/// Estimates the key light of a lit sphere (module docs). At most 4000 disk pixels are used.
+/// When directions more than [`UNDECIDED_DEG`] apart explain the shading as well, the
+/// picture cannot decide: the estimate is the mean of those directions weighted by how well
+/// they explain it and by a broad prior around the upper front ([`KEY`]), and `undecided`.
+pub fn estimate_light(p: &Painting, disk: &Disk) -> Result<LightEstimate> {
+    let (normals, y) = disk_samples(p, disk)?;
+    let coarse = front_directions(6000);
+    let (mut best, mut cost, weight) = robust_best(&coarse, &normals, &y)?;
+    // Refine in a cap of 4° around the best.
+    let fine: Vec<DVec3> = cap(best, 4f64.to_radians(), 600);
+    let costs = |dirs: &[DVec3]| -> Vec<(DVec3, f64)> { dirs.iter().filter_map(|&l| model_cost(l, &normals, &y, &weight).map(|(c, _)| (l, c))).collect() };
+    let mut scored = costs(&coarse);
+    scored.extend(costs(&fine));
+    if let Some(&(b, c)) = scored.iter().min_by(|a, b| a.1.total_cmp(&b.1)) {
+        if c < cost {
+            (best, cost) = (b, c);
+        }
+    }
+    let plausible: Vec<(DVec3, f64)> = scored.into_iter().filter(|(_, c)| *c <= AS_WELL * cost).collect();
+    let widest = |d: DVec3| plausible.iter().map(|(l, _)| l.angle_between(d)).fold(0.0f64, f64::max);
+    let undecided = widest(best).to_degrees() > UNDECIDED_DEG;
+    let direction = if undecided { key_light(&plausible, cost) } else { best };
+    let inliers = weight.iter().sum::<f64>() / weight.len() as f64;
+    Ok(LightEstimate { direction, spread_deg: widest(direction).to_degrees(), inliers, undecided })
+}
+
+/// The disk's normals and luminances, off the rim (where normals are steep and edges mix
+/// with the background), on a grid of at most about 4000 pixels.
+fn disk_samples(p: &Painting, disk: &Disk) -> Result<(Vec<DVec3>, Vec<f64>)> {
+    let (mut normals, mut y) = (Vec::new(), Vec::new());
+    let total = (std::f64::consts::PI * disk.r * disk.r) as usize;
+    let stride = ((total as f64 / 4000.0).sqrt().floor() as usize).max(1);
+    for j in (0..p.height).step_by(stride) {
+        for i in (0..p.width).step_by(stride) {
+            let k = j * p.width + i;
+            if p.alpha[k] <= 0.0 {
+                continue;
+            }
+            if let Some(n) = disk.normal(i, j, 0.95) {
+                normals.push(n);
+                y.push(luminance(&p.pixels[k]));
+            }
+        }
+    }
+    if normals.len() < 32 {
+        return Err(Error::input("the sphere is too small or too transparent to estimate its light"));
+    }
+    Ok((normals, y))
+}
+
+/// The best of `dirs` under the shading model, with pixels the model misses by far
+/// (highlights, strokes, rim lights: residuals beyond 2.5 MAD) left out so they stop pulling
+/// the light towards them: its direction, cost and the pixels' weights.
+fn robust_best(dirs: &[DVec3], normals: &[DVec3], y: &[f64]) -> Result<(DVec3, f64, Vec<f64>)> {
+    let best_of = |weight: &[f64]| -> Result<(DVec3, f64, [f64; 3])> {
+        dirs.iter()
+            .filter_map(|&l| model_cost(l, normals, y, weight).map(|(c, s)| (l, c, s)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .ok_or_else(|| Error::input("no light explains the sphere's shading"))
+    };
+    let mut weight = vec![1.0; normals.len()];
+    let (mut best, mut cost, mut coef) = best_of(&weight)?;
+    for _ in 0..3 {
+        let residual: Vec<f64> = normals
+            .iter()
+            .zip(y)
+            .map(|(n, &yv)| {
+                let c = n.dot(best);
+                coef[0] + coef[1] * c.max(0.0) + coef[2] * c.min(0.0) - yv
+            })
+            .collect();
+        // The scale from the pixels at or below the model only: a highlight only adds light
+        // (specular over diffuse), so a glossy lobe's broad tail inflates the spread above
+        // the prediction and, measured on both sides, would pass as shading and bend the
+        // light towards it; below the prediction the spread is the shading's own.
+        let mut abs: Vec<f64> = residual.iter().filter(|&&r| r >= 0.0).copied().collect();
+        if abs.len() < 8 {
+            abs = residual.iter().map(|r| r.abs()).collect();
+        }
+        abs.sort_by(f64::total_cmp);
+        let sigma = (1.4826 * abs[abs.len() / 2]).max(1e-6 * y.iter().cloned().fold(0.0, f64::max));
+        weight = residual.iter().map(|r| if r.abs() <= 2.5 * sigma { 1.0 } else { 0.0 }).collect();
+        (best, cost, coef) = best_of(&weight)?;
+    }
+    Ok((best, cost, weight))
+}
+
+/// The mean of the `plausible` directions (with their costs; `best` the least) weighted by
+/// $e^{-(c/c_{best} - 1)/w}$ ([`COST_WIDTH`]) times the prior $e^{\kappa (l \cdot K - 1)}$
+/// ([`KEY`], [`KEY_CONCENTRATION`]): a posterior mean, continuous in the picture.
+fn key_light(plausible: &[(DVec3, f64)], best: f64) -> DVec3 {
+    let sum: DVec3 = plausible
+        .iter()
+        .map(|&(l, c)| l * (-(c / best.max(1e-300) - 1.0) / COST_WIDTH + KEY_CONCENTRATION * (l.dot(KEY) - 1.0)).exp())
+        .sum();
+    let mean = sum.normalize_or(KEY);
+    // In front, as every candidate is (a mean of front directions is in front).
+    DVec3::new(mean.x, mean.y, mean.z.max(MIN_LIGHT_Z)).normalize()
+}
+
+/// About `n` directions within `angle` of `centre`, in front of the sphere.
+fn cap(centre: DVec3, angle: f64, n: usize) -> Vec<DVec3> {
+    let (t, b) = centre.any_orthonormal_pair();
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let cos_max = angle.cos();
+    (0..n)
+        .map(|k| {
+            let z = 1.0 - (1.0 - cos_max) * (k as f64 + 0.5) / n as f64;
+            let r = (1.0 - z * z).sqrt();
+            let phi = golden * k as f64;
+            (centre * z + t * r * phi.cos() + b * r * phi.sin()).normalize()
+        })
+        .filter(|d| d.z >= MIN_LIGHT_Z)
+        .collect()
+}
