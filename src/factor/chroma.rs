@@ -3,7 +3,7 @@
 //! The thesis solves each channel's factors on its own (eq. 3.4 with three right-hand
 //! sides). Where the samples say little (the near-null direction of one view, directions no
 //! sample reaches) the three channels extrapolate differently, and their ratio, the hue,
-//! swings: grey MatCaps became orange-and-cyan bunnies under a side light. A painter never
+//! swings: a grey MatCap can turn orange-and-cyan under a side light. A painter never
 //! paints that. [`Channels::Coupled`] splits every log value into a luminance and a chroma,
 //!
 //! $\tilde f_c = \tilde L + \tilde\rho_c, \qquad \tilde L = \sum_c \alpha_c \tilde f_c,$
@@ -48,7 +48,7 @@ pub enum Channels {
 }
 
 impl Channels {
-    /// The thesis's choice, which every fit made before there was a choice used.
+    /// The thesis's choice: what settings without a `channels` field were fitted with.
     pub fn thesis() -> Channels {
         Channels::Independent
     }

@@ -190,8 +190,8 @@ pub struct Settings {
     /// `None`, the default: off. Lit spheres turn it on ([`crate::litsphere::settings`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub light_prior: Option<f64>,
-    /// How the colour channels are fitted ([`Channels`]): coupled by default; settings
-    /// stored before there was a choice were fitted independently, as the thesis does.
+    /// How the colour channels are fitted ([`Channels`]): independently by default, as the
+    /// thesis does; stored settings without the field read as independent too.
     #[serde(default = "Channels::thesis")]
     pub channels: Channels,
 }

@@ -173,7 +173,7 @@ mod tests {
 
     #[test]
     fn area_resampling_averages_what_each_pixel_covers() {
-        // 3 → 2: the middle pixel splits in halves.
+        // Three pixels into two: the middle one splits in halves.
         let src = [[0.0; 3], [3.0; 3], [6.0; 3]];
         let out = area_resample(&src, 3, 1, 2, 1);
         assert!((out[0][0] - 1.0).abs() < 1e-6 && (out[1][0] - 5.0).abs() < 1e-6, "{out:?}");
