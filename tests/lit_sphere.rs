@@ -4,10 +4,13 @@
 //! material that darkens when the light goes behind, and bad pictures are refused in one
 //! line.
 
+mod sphere_common;
+use sphere_common::sphere_picture;
+
 use std::path::Path;
 use std::process::Command;
 
-use brdfpaint::brdf::{Analytic, Reflectance, SphereView};
+use brdfpaint::brdf::{Analytic, Reflectance};
 use brdfpaint::gl::HeadlessContext;
 use brdfpaint::images::Painting;
 use brdfpaint::litsphere::{estimate_light, find_disk, Outline};
@@ -22,17 +25,6 @@ fn bin() -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_brdfpaint"));
     c.env("LIBGL_ALWAYS_SOFTWARE", "1").env("BRDFPAINT_CACHE", std::env::temp_dir().join("brdfpaint-test-cache"));
     c
-}
-
-/// `model` painted on a sphere of `res` pixels lit from `light`, placed at (`x0`, `y0`) in a
-/// `w` × `h` picture on a white background: the truth times a white light.
-fn sphere_picture(model: &Analytic, light: DVec3, res: usize, (w, h): (usize, usize), (x0, y0): (usize, usize)) -> Painting {
-    let mut p = Painting::opaque(w, h, vec![[1.0; 3]; w * h]).unwrap();
-    for px in SphereView::new(light, res).pixels() {
-        let s = model.shading(&px.query);
-        p.pixels[(y0 + px.pixel[1]) * w + x0 + px.pixel[0]] = s.map(|x| x as f32);
-    }
-    p
 }
 
 #[test]

@@ -5,11 +5,13 @@
 //! MatCap keeps the disk it had; `--disk` overrides the one found; the light is found over
 //! the whole front hemisphere, grazing lights included.
 
+mod sphere_common;
+use sphere_common::sphere_picture;
+
 use std::path::Path;
 use std::process::Command;
 
-use brdfpaint::brdf::{Analytic, Reflectance, SphereView};
-use brdfpaint::images::Painting;
+use brdfpaint::brdf::Analytic;
 use brdfpaint::litsphere::{estimate_light, find_disk, Disk, Outline, Picture, MAX_SIDE};
 use glam::DVec3;
 
@@ -105,17 +107,6 @@ fn a_given_disk_overrides_the_one_found() {
         assert!(stderr.lines().filter(|l| !l.trim().is_empty() && !l.contains("--help")).count() == 1, "--disk {bad}: {stderr}");
         assert!(!dir.path().join("bad").exists());
     }
-}
-
-/// `model` painted on a sphere of `res` pixels lit from `light`, placed at (`x0`, `y0`) in a
-/// `w` × `h` picture on a white background.
-fn sphere_picture(model: &Analytic, light: DVec3, res: usize, (w, h): (usize, usize), (x0, y0): (usize, usize)) -> Painting {
-    let mut p = Painting::opaque(w, h, vec![[1.0; 3]; w * h]).unwrap();
-    for px in SphereView::new(light, res).pixels() {
-        let s = model.shading(&px.query);
-        p.pixels[(y0 + px.pixel[1]) * w + x0 + px.pixel[0]] = s.map(|x| x as f32);
-    }
-    p
 }
 
 /// Lights over the whole front hemisphere, from the view to grazing (z = 0.05), at several
