@@ -138,7 +138,7 @@ pub fn locate(p: &Painting, name: &str) -> Result<Located> {
     if has_alpha {
         let mask: Vec<bool> = p.alpha.iter().map(|&a| a >= 0.5).collect();
         let disk = outline_circle(&mask, w, h, name)?;
-        let edges = edges::points(&[p.alpha.clone()], w, h);
+        let edges = edges::points(std::slice::from_ref(&p.alpha), w, h);
         return Ok(Located { disk, outline: Outline::Alpha, seen: edges::support(&edges, &disk, w, h).seen });
     }
     let key = border_median(p);

@@ -2,8 +2,14 @@
 
 use brdfpaint::error::{Error, Result};
 
-pub(super) fn run(json: bool, quick: bool) -> Result<()> {
+pub(super) fn run(json: bool, quick: bool, tables: bool, systems: Option<&std::path::Path>) -> Result<()> {
+    if let Some(dir) = systems {
+        brdfpaint::study::bench::write_systems(dir)?;
+    }
     let mut cases = brdfpaint::study::bench::factor_cases(quick)?;
+    if tables {
+        return print_tables(&cases, json);
+    }
     cases.extend(brdfpaint::study::bench::material_map_cases(quick)?);
     let fidelity = brdfpaint::study::bench::fidelity_cases()?;
     // The GL cases need an EGL device; without one the factorization tables still stand.
@@ -76,6 +82,16 @@ pub(super) fn run(json: bool, quick: bool) -> Result<()> {
             };
             println!("{}: {} samples, {:.2} {what}", c.case, c.samples.unwrap_or(0), c.time_s.unwrap_or(0.0) * 1e3);
         }
+    }
+    Ok(())
+}
+
+/// Only the factorization tables.
+fn print_tables(cases: &[brdfpaint::study::bench::Case], json: bool) -> Result<()> {
+    if json {
+        println!("{}", serde_json::to_string_pretty(cases).map_err(|e| Error::input(e.to_string()))?);
+    } else {
+        print!("{}", brdfpaint::study::bench::table(cases));
     }
     Ok(())
 }

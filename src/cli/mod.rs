@@ -65,6 +65,13 @@ enum Command {
         /// Shorter timing loops: a first look, not numbers to report.
         #[arg(long)]
         quick: bool,
+        /// Only the factorization cases of thesis tables 5.1 and 5.2 (and the 256² product).
+        #[arg(long)]
+        tables: bool,
+        /// Also write the systems of tables 5.1 and 5.2 into this folder, for the reference
+        /// implementation `tools/reference/cholesky.py` to time.
+        #[arg(long, value_name = "DIR")]
+        systems: Option<std::path::PathBuf>,
     },
 }
 
@@ -109,7 +116,7 @@ pub fn run() -> ExitCode {
         Command::Export(args) => export::run(args).map_err(Failure::from),
         Command::Render(args) => render::run(args),
         Command::Sheet(args) => sheet::run(args).map_err(Failure::from),
-        Command::Bench { json, quick } => bench::run(json, quick).map_err(Failure::from),
+        Command::Bench { json, quick, tables, systems } => bench::run(json, quick, tables, systems.as_deref()).map_err(Failure::from),
         #[cfg(feature = "viewer")]
         Command::View(args) => view::run(*args).map_err(Failure::from),
     };

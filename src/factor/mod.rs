@@ -25,7 +25,6 @@ pub mod param;
 mod pattern;
 mod prepared;
 pub mod robust;
-mod schur;
 mod sparse;
 mod settings;
 pub mod system;

@@ -75,9 +75,17 @@ pub fn rho_to_theta(rho: f64) -> f64 {
     }
 }
 
+/// $\sqrt{x^2 + y^2}$ of a unit direction: $\sin\theta$. Directions are unit length, so
+/// the squares can neither overflow nor underflow, and `hypot`'s guard (a fifth of the time
+/// spent building a system) buys nothing.
+#[inline]
+fn planar_length(d: DVec3) -> f64 {
+    (d.x * d.x + d.y * d.y).sqrt()
+}
+
 /// 1D radius map: direction to table coordinate $t \in [0, 1]$.
 pub fn radius_forward(d: DVec3, domain: Domain) -> f64 {
-    let sin_theta = d.x.hypot(d.y);
+    let sin_theta = planar_length(d);
     match domain {
         // Clamp below-horizon directions onto the horizon, where $\rho = 1$.
         Domain::Hemisphere => {
@@ -103,7 +111,7 @@ pub fn radius_inverse(t: f64, domain: Domain) -> f64 {
 /// rotating $h$ onto the normal, $d = R_y(-\theta_h) R_z(-\phi_h)\, l$. Its polar angle is
 /// $\theta_d$, the angle between $l$ and $h$ ($d_z = l \cdot h$).
 pub fn difference(l: DVec3, h: DVec3) -> DVec3 {
-    let sin_h = h.x.hypot(h.y);
+    let sin_h = planar_length(h);
     // $\phi_h$ is undefined at the pole, where $R_y(0)$ leaves any choice equivalent.
     let (c, s) = if sin_h > 1e-12 { (h.x / sin_h, h.y / sin_h) } else { (1.0, 0.0) };
     // Rotate by $-\phi_h$ about z ...
@@ -162,7 +170,7 @@ fn planar_theta(param: Param, r: f64) -> f64 {
 /// Hemisphere domain: the unit disk (the thesis's map) scaled into the square.
 /// Sphere domain: the disk of radius 2, keeping the azimuth, scaled into the square.
 pub fn planar_forward(param: Param, d: DVec3, domain: Domain) -> DVec2 {
-    let sin_theta = d.x.hypot(d.y);
+    let sin_theta = planar_length(d);
     // The azimuth is undefined at the poles; any unit vector works there since r = 0 (north)
     // and the south pole is a single point on the outer circle.
     let azimuth = if sin_theta > 1e-12 { DVec2::new(d.x, d.y) / sin_theta } else { DVec2::X };

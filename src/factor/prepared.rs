@@ -5,10 +5,9 @@
 //! maps values to log space, forms $\mathbf b = \mathbf A^\top \tilde{\mathbf f}$ (a sparse
 //! scatter) and applies the prepared inverse to three right-hand sides at once (R, G, B).
 //!
-//! The default pre-factors $\mathbf G$ by Cholesky: dense when it is small or dense (the
-//! inverse is kept, so a solve is one matrix product); a block solver when one large table
-//! sits beside small ones (the four-factor product, see `schur`); sparse supernodal
-//! otherwise (three 2D factors, a 256² uv factor). The thesis's pseudo-inverse variants are available as [`Method`]s; they use
+//! The default pre-factors $\mathbf G$ by Cholesky: dense for the smallest systems (the
+//! inverse is kept, so a solve is one matrix product), sparse supernodal otherwise. The
+//! thesis's pseudo-inverse variants are available as [`Method`]s; they use
 //! the eigendecomposition $\mathbf G = \mathbf V \mathbf S^2 \mathbf V^\top$, whose
 //! $\mathbf V$ are the right singular vectors of $\mathbf B$, and expose the change of basis
 //! of eqs. 3.10–3.12 through [`Spectral`].
@@ -22,15 +21,14 @@ use super::chroma::{self, Channels, Coupled};
 use super::mapping::{LogMap, Mapping, IDENTITY_FLOOR};
 use super::pattern::{Pattern, Query};
 use super::settings::{Method, Settings};
-use super::schur::{self, Schur};
 use super::sparse::SparseLlt;
 use super::system::{self, Design, SymCsc};
 use crate::error::{Error, Result};
 
-/// Systems at most this large are always factored densely.
-const DENSE_ALWAYS: usize = 1024;
-/// Larger systems are factored densely when this fraction of G is nonzero.
-const DENSE_FILL: f64 = 0.2;
+/// Systems at most this large are factored densely. Above it a supernodal factor wins even
+/// where G is a fifth full (three 1D tables): it keeps the fill a dense factor stores as
+/// zeros, and needs no inverse, which costs twice the factorization.
+const DENSE_MAX: usize = 128;
 
 /// A factored system, ready to solve any values on its pattern.
 pub struct Prepared {
@@ -59,9 +57,6 @@ pub(crate) enum Solver {
     Dense(Mat<f64>),
     /// Sparse supernodal Cholesky of $\mathbf G$ (with $\mathbf G$ kept for the cache).
     Sparse(Box<SparseLlt>, SymCsc),
-    /// The block solver for one large table beside small ones (with $\mathbf G$ kept for
-    /// the cache).
-    Schur(Box<Schur>, SymCsc),
     /// A filtered pseudo-inverse.
     Spectral(Spectral),
 }
@@ -206,13 +201,11 @@ impl Prepared {
         self.design.n
     }
 
-    /// Which factorization was chosen: "dense", "sparse", "block" (dense and sparse blocks,
-    /// for one large table) or "spectral".
+    /// Which factorization was chosen: "dense", "sparse" or "spectral".
     pub fn solver_kind(&self) -> &'static str {
         match self.solver {
             Solver::Dense(_) => "dense",
             Solver::Sparse(..) => "sparse",
-            Solver::Schur(..) => "block",
             Solver::Spectral(_) => "spectral",
         }
     }
@@ -312,7 +305,6 @@ impl Prepared {
                 llt.solve_in_place(&mut y);
                 y
             }
-            Solver::Schur(s, _) => s.solve(b),
             Solver::Spectral(s) => &s.operator * b,
         };
         crate::util::clear_upper_vector_state();
@@ -564,7 +556,7 @@ pub fn prepare(pattern: &Pattern, settings: &Settings) -> Result<Prepared> {
         bar.set_message("factoring");
         bar.enable_steady_tick(std::time::Duration::from_millis(100));
     }
-    let solver = factor(&g, settings, &design.offsets);
+    let solver = factor(&g, settings);
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
@@ -597,21 +589,15 @@ fn not_spd<E>(_: E) -> Error {
     )
 }
 
-/// Factor G by the method (and, for Cholesky, the cheapest of dense, block and sparse).
-pub(crate) fn factor(g: &SymCsc, settings: &Settings, offsets: &[usize]) -> Result<Solver> {
+/// Factor G by the method (and, for Cholesky, dense or sparse by size).
+pub(crate) fn factor(g: &SymCsc, settings: &Settings) -> Result<Solver> {
     if settings.method != Method::Cholesky {
         return Ok(Solver::Spectral(Spectral::new(g, settings.method)?));
     }
-    if g.n <= DENSE_ALWAYS || g.density() >= DENSE_FILL {
+    if g.n <= DENSE_MAX {
         let dense = g.to_dense();
         let llt = dense.llt(Side::Lower).map_err(not_spd)?;
         return Ok(Solver::Dense(llt.inverse()));
-    }
-    // One large table beside small ones (the four-factor product): the block solver.
-    let (big, len) = settings.factors.iter().map(|f| f.len()).enumerate().max_by_key(|&(_, l)| l).unwrap_or((0, 0));
-    if (512..=schur::MAX_SPARSE).contains(&len) && g.n - len <= schur::MAX_DENSE {
-        let sparse = (offsets[big]..offsets[big] + len).collect();
-        return Ok(Solver::Schur(Box::new(Schur::new(g, sparse, |what| not_spd(what))?), g.clone()));
     }
     let llt = SparseLlt::new(g.n, g.col_ptr.clone(), g.row.clone(), g.val.clone())
         .map_err(|e| e.unwrap_or_else(|| not_spd(())))?;

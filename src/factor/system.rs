@@ -83,6 +83,57 @@ pub struct Design {
     pub col_val: Vec<f64>,
 }
 
+/// Patterns from which the sample rows are built on several threads.
+const PARALLEL_SAMPLES: usize = 4096;
+
+/// The sample rows of $\mathbf A$ in compressed form (row pointers, columns, weights) and
+/// each factor's summed weight. Zero weights carry no information and are left out, which
+/// keeps G sparser.
+fn sample_rows(pattern: &Pattern, settings: &Settings, offsets: &[usize]) -> (Vec<u32>, Vec<u32>, Vec<f64>, Vec<f64>) {
+    use rayon::prelude::*;
+    let per_row: usize = settings.factors.iter().map(|f| if f.dim() == 1 { 2 } else { 4 }).sum();
+    let build = |queries: &[Query]| {
+        let mut lens = Vec::with_capacity(queries.len());
+        let mut cols = Vec::with_capacity(queries.len() * per_row);
+        let mut vals = Vec::with_capacity(queries.len() * per_row);
+        let mut reached = vec![0.0f64; settings.factors.len()];
+        for q in queries {
+            let before = cols.len();
+            for (j, f) in settings.factors.iter().enumerate() {
+                for (i, w) in stencil(f, q).iter() {
+                    if w != 0.0 {
+                        cols.push((offsets[j] + i) as u32);
+                        vals.push(w);
+                        reached[j] += w;
+                    }
+                }
+            }
+            lens.push((cols.len() - before) as u32);
+        }
+        (lens, cols, vals, reached)
+    };
+    let parts = if pattern.len() >= PARALLEL_SAMPLES {
+        let per = pattern.len().div_ceil(rayon::current_num_threads().max(1) * 4);
+        pattern.queries.par_chunks(per).map(build).collect()
+    } else {
+        vec![build(&pattern.queries)]
+    };
+    let total: usize = parts.iter().map(|p| p.1.len()).sum();
+    let mut row_ptr = Vec::with_capacity(pattern.len() + 1);
+    row_ptr.push(0u32);
+    let (mut row_col, mut row_val) = (Vec::with_capacity(total), Vec::with_capacity(total));
+    let mut reached = vec![0.0f64; settings.factors.len()];
+    for (lens, cols, vals, sums) in parts {
+        for len in lens {
+            row_ptr.push(row_ptr[row_ptr.len() - 1] + len);
+        }
+        row_col.extend(cols);
+        row_val.extend(vals);
+        reached.iter_mut().zip(sums).for_each(|(r, s)| *r += s);
+    }
+    (row_ptr, row_col, row_val, reached)
+}
+
 impl Design {
     /// Each node's data weight: the sum of its interpolation weights over the samples. Below
     /// 1, no sample really reaches the node: its value is the smoothing's extrapolation.
@@ -113,27 +164,7 @@ impl Design {
             offsets.push(n);
             n += f.len();
         }
-        let per_row: usize = settings.factors.iter().map(|f| if f.dim() == 1 { 2 } else { 4 }).sum();
-        let rows = pattern.len();
-        let mut row_ptr = Vec::with_capacity(rows + 1);
-        let mut row_col = Vec::with_capacity(rows * per_row);
-        let mut row_val = Vec::with_capacity(rows * per_row);
-        let mut reached = vec![0.0f64; settings.factors.len()];
-        row_ptr.push(0u32);
-        for q in &pattern.queries {
-            for (j, f) in settings.factors.iter().enumerate() {
-                let s = stencil(f, q);
-                for (i, w) in s.iter() {
-                    // Zero weights carry no information; dropping them keeps G sparser.
-                    if w != 0.0 {
-                        row_col.push((offsets[j] + i) as u32);
-                        row_val.push(w);
-                        reached[j] += w;
-                    }
-                }
-            }
-            row_ptr.push(row_col.len() as u32);
-        }
+        let (row_ptr, row_col, row_val, reached) = sample_rows(pattern, settings, &offsets);
         for (j, r) in reached.iter().enumerate() {
             if *r <= 0.0 {
                 return Err(Error::input(format!(
@@ -150,6 +181,7 @@ impl Design {
         for c in 0..n {
             col_ptr[c + 1] += col_ptr[c];
         }
+        let rows = pattern.len();
         let mut fill = col_ptr.clone();
         let mut col_row = vec![0u32; row_col.len()];
         let mut col_val = vec![0.0; row_col.len()];
@@ -319,7 +351,7 @@ pub(crate) fn factor_regularization(f: &FactorSpec, n_samples: f64) -> Rows {
 
 /// Regularization rows of every factor, in global unknown numbering, each with its weight
 /// already applied (so $\mathbf R = \sum_{\text{rows}} \mathbf r \mathbf r^\top$).
-fn regularization(settings: &Settings, design: &Design) -> Rows {
+pub(crate) fn regularization(settings: &Settings, design: &Design) -> Rows {
     let offsets = &design.offsets;
     let n_samples = design.rows() as f64;
     let mut out: Rows = Vec::new();
@@ -345,12 +377,134 @@ fn regularization(settings: &Settings, design: &Design) -> Rows {
     out
 }
 
+/// Systems at most this large may assemble $\mathbf G$ in a dense lower triangle (n² / 2
+/// values, 9 MB at 1536).
+const DENSE_ASSEMBLY: usize = 1536;
+/// Samples from which the dense assembly splits the rows between threads, each with its own
+/// triangle (below, zeroing a second triangle costs more than it saves).
+const PARALLEL_ROWS: usize = 16_384;
+
 /// The normal matrix $\mathbf G = \mathbf A^\top \mathbf A + \mathbf R$ in sparse symmetric
-/// form, by Gustavson's column-by-column product with a dense accumulator.
-/// `progress`, when given, advances by one per column.
+/// form. `progress`, when given, advances by one per column.
 pub fn normal_matrix(design: &Design, settings: &Settings, progress: Option<&indicatif::ProgressBar>) -> SymCsc {
-    let n = design.n;
     let reg = regularization(settings, design);
+    // A unit-less floor on the diagonal: 1e-12 of the data's weight per unknown. It only
+    // matters for directions nothing else determines (a 2D table sampled along a curve),
+    // which it sets to zero instead of letting the factorization fail.
+    let floor = 1e-12 * design.rows() as f64 / design.n as f64;
+    // Cost model: the dense triangle pays about the same per entry (clearing, scanning) as
+    // the column-by-column product pays per sample product, which adds each outer product
+    // without looking up where its entries go; the cheaper of the two totals wins.
+    let products: usize = design.row_ptr.windows(2).map(|w| ((w[1] - w[0]) as usize).pow(2)).sum();
+    if design.n <= DENSE_ASSEMBLY && design.n * design.n < products {
+        dense_normal_matrix(design, &reg, floor)
+    } else {
+        sparse_normal_matrix(design, &reg, floor, progress)
+    }
+}
+
+/// [`normal_matrix`] through a dense lower triangle, column-major (entry (a, b), a ≥ b, at
+/// `b·n + a`), rows split between threads for large patterns.
+fn dense_normal_matrix(design: &Design, reg: &Rows, floor: f64) -> SymCsc {
+    use rayon::prelude::*;
+    let n = design.n;
+    let add_rows = |rows: std::ops::Range<usize>, lower: &mut [f64]| {
+        for r in rows {
+            let span = design.row_ptr[r] as usize..design.row_ptr[r + 1] as usize;
+            let (cols, vals) = (&design.row_col[span.clone()], &design.row_val[span]);
+            // A row's columns ascend (factor by factor, each stencil in order).
+            for (q, (&b, &wb)) in cols.iter().zip(vals).enumerate() {
+                let column = &mut lower[b as usize * n..];
+                for (&a, &wa) in cols[q..].iter().zip(&vals[q..]) {
+                    column[a as usize] += wa * wb;
+                }
+            }
+        }
+    };
+    let rows = design.rows();
+    let threads = rayon::current_num_threads().max(1);
+    let mut lower = if rows >= PARALLEL_ROWS && threads > 1 {
+        let per = rows.div_ceil(threads);
+        let parts: Vec<Vec<f64>> = (0..threads)
+            .into_par_iter()
+            .map(|t| {
+                let mut part = vec![0.0; n * n];
+                add_rows(t * per..((t + 1) * per).min(rows), &mut part);
+                part
+            })
+            .collect();
+        let mut parts = parts.into_iter();
+        let mut sum = parts.next().unwrap_or_else(|| vec![0.0; n * n]);
+        for p in parts {
+            sum.par_chunks_mut(n).zip(p.par_chunks(n)).for_each(|(s, p)| s.iter_mut().zip(p).for_each(|(s, p)| *s += p));
+        }
+        sum
+    } else {
+        let mut lower = vec![0.0; n * n];
+        add_rows(0..rows, &mut lower);
+        lower
+    };
+    for row in reg {
+        for &(i, x) in row {
+            for &(j, y) in row {
+                if i >= j {
+                    lower[j * n + i] += x * y;
+                }
+            }
+        }
+    }
+    for c in 0..n {
+        lower[c * n + c] += floor;
+    }
+    lower_to_sym(n, &lower)
+}
+
+/// Full symmetric compressed columns of a dense lower triangle (entry (a, b) at `b·n + a`),
+/// zeros left out. Column c lists rows above c (the transposed entries of columns before
+/// it) and then its own lower entries, so its rows ascend.
+fn lower_to_sym(n: usize, lower: &[f64]) -> SymCsc {
+    let mut count = vec![0usize; n];
+    for b in 0..n {
+        for a in b..n {
+            if lower[b * n + a] != 0.0 {
+                count[b] += 1;
+                if a > b {
+                    count[a] += 1;
+                }
+            }
+        }
+    }
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    col_ptr.push(0);
+    for c in 0..n {
+        col_ptr.push(col_ptr[c] + count[c]);
+    }
+    let nnz = col_ptr[n];
+    let (mut row, mut val) = (vec![0usize; nnz], vec![0.0; nnz]);
+    let mut fill = col_ptr[..n].to_vec();
+    for b in 0..n {
+        for a in b..n {
+            let x = lower[b * n + a];
+            if x != 0.0 {
+                row[fill[b]] = a;
+                val[fill[b]] = x;
+                fill[b] += 1;
+                if a > b {
+                    row[fill[a]] = b;
+                    val[fill[a]] = x;
+                    fill[a] += 1;
+                }
+            }
+        }
+    }
+    SymCsc { n, col_ptr, row, val }
+}
+
+/// [`normal_matrix`] by Gustavson's column-by-column product with a dense accumulator,
+/// columns split between threads.
+fn sparse_normal_matrix(design: &Design, reg: &Rows, floor: f64, progress: Option<&indicatif::ProgressBar>) -> SymCsc {
+    use rayon::prelude::*;
+    let n = design.n;
     // Regularization rows grouped by the columns they touch.
     let mut reg_by_col: Vec<Vec<u32>> = vec![Vec::new(); n];
     for (r, row) in reg.iter().enumerate() {
@@ -358,19 +512,42 @@ pub fn normal_matrix(design: &Design, settings: &Settings, progress: Option<&ind
             reg_by_col[i].push(r as u32);
         }
     }
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let block = 256;
+    let blocks: Vec<(Vec<usize>, Vec<usize>, Vec<f64>)> = (0..n.div_ceil(block))
+        .into_par_iter()
+        .map(|k| {
+            let columns = k * block..((k + 1) * block).min(n);
+            let part = gustavson_columns(design, reg, &reg_by_col, floor, columns);
+            let finished = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            if let Some(bar) = progress {
+                bar.set_position((finished * block).min(n) as u64);
+            }
+            part
+        })
+        .collect();
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    col_ptr.push(0);
+    let nnz = blocks.iter().map(|b| b.1.len()).sum();
+    let (mut row, mut val) = (Vec::with_capacity(nnz), Vec::with_capacity(nnz));
+    for (lens, rows, vals) in blocks {
+        for len in lens {
+            col_ptr.push(col_ptr[col_ptr.len() - 1] + len);
+        }
+        row.extend(rows);
+        val.extend(vals);
+    }
+    SymCsc { n, col_ptr, row, val }
+}
+
+/// Columns `columns` of $\mathbf G$: each column's length, and the rows and values of all.
+fn gustavson_columns(design: &Design, reg: &Rows, reg_by_col: &[Vec<u32>], floor: f64, columns: std::ops::Range<usize>) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+    let n = design.n;
     let mut acc = vec![0.0f64; n];
     let mut mark = vec![usize::MAX; n];
     let mut touched: Vec<usize> = Vec::new();
-    let mut col_ptr = Vec::with_capacity(n + 1);
-    let mut row = Vec::new();
-    let mut val = Vec::new();
-    col_ptr.push(0);
-    // `c` is the column being built (marks and progress use it), not only an index.
-    #[allow(clippy::needless_range_loop)]
-    for c in 0..n {
-        if let Some(bar) = progress.filter(|_| c % 256 == 0) {
-            bar.set_position(c as u64);
-        }
+    let (mut lens, mut row, mut val) = (Vec::with_capacity(columns.len()), Vec::new(), Vec::new());
+    for c in columns {
         touched.clear();
         let mut add = |i: usize, x: f64, touched: &mut Vec<usize>| {
             if mark[i] != c {
@@ -393,16 +570,66 @@ pub fn normal_matrix(design: &Design, settings: &Settings, progress: Option<&ind
                 add(i, w * x, &mut touched);
             }
         }
-        // A unit-less floor on the diagonal: 1e-12 of the data's weight per unknown. It only
-        // matters for directions nothing else determines (a 2D table sampled along a curve),
-        // which it sets to zero instead of letting the factorization fail.
-        add(c, 1e-12 * design.rows() as f64 / n as f64, &mut touched);
+        add(c, floor, &mut touched);
         touched.sort_unstable();
+        lens.push(touched.len());
         for &i in &touched {
             row.push(i);
             val.push(acc[i]);
         }
-        col_ptr.push(row.len());
     }
-    SymCsc { n, col_ptr, row, val }
+    (lens, row, val)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::brdf::SphereView;
+
+    /// $\mathbf A^\top \mathbf A + \mathbf R^\top \mathbf R + \epsilon \mathbf I$ by the
+    /// definition, entry by entry, densely.
+    fn by_definition(design: &Design, reg: &Rows, floor: f64) -> Vec<f64> {
+        let n = design.n;
+        let mut g = vec![0.0; n * n];
+        let mut add_row = |row: &[(usize, f64)]| {
+            for &(i, x) in row {
+                for &(j, y) in row {
+                    g[i * n + j] += x * y;
+                }
+            }
+        };
+        for r in 0..design.rows() {
+            let span = design.row_ptr[r] as usize..design.row_ptr[r + 1] as usize;
+            let row: Vec<(usize, f64)> = design.row_col[span.clone()].iter().map(|&c| c as usize).zip(design.row_val[span].iter().copied()).collect();
+            add_row(&row);
+        }
+        reg.iter().for_each(|r| add_row(r));
+        (0..n).for_each(|i| g[i * n + i] += floor);
+        g
+    }
+
+    fn check(g: &SymCsc, truth: &[f64]) {
+        let n = g.n;
+        let dense = g.to_dense();
+        let scale = truth.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        for i in 0..n {
+            for j in 0..n {
+                assert!((dense[(i, j)] - truth[i * n + j]).abs() <= 1e-12 * scale, "G[{i}, {j}] = {} against {}", dense[(i, j)], truth[i * n + j]);
+            }
+            let rows = &g.row[g.col_ptr[i]..g.col_ptr[i + 1]];
+            assert!(rows.windows(2).all(|w| w[0] < w[1]), "column {i}: rows must ascend");
+        }
+    }
+
+    #[test]
+    fn both_assemblies_of_g_match_its_definition() {
+        let pattern = SphereView::new(glam::DVec3::new(-0.5, 0.5, 1.0), 24).pattern();
+        for settings in [Settings::uniform(1, 16), Settings::uniform(2, 6), Settings::four_factor(1, 8, 6)] {
+            let design = Design::new(&pattern, &settings).unwrap();
+            let reg = regularization(&settings, &design);
+            let truth = by_definition(&design, &reg, 1e-9);
+            check(&dense_normal_matrix(&design, &reg, 1e-9), &truth);
+            check(&sparse_normal_matrix(&design, &reg, 1e-9, None), &truth);
+        }
+    }
 }

@@ -398,7 +398,7 @@ mod tests {
     #[test]
     fn geometric_fit_recovers_an_arc() {
         let truth = Disk { cx: 40.0, cy: -10.0, r: 75.0 };
-        let pts: Vec<DVec2> = (0..60).map(|k| (k as f64 * 0.03 + 0.4)).map(|a| DVec2::new(truth.cx + truth.r * a.cos(), truth.cy + truth.r * a.sin())).collect();
+        let pts: Vec<DVec2> = (0..60).map(|k| k as f64 * 0.03 + 0.4).map(|a| DVec2::new(truth.cx + truth.r * a.cos(), truth.cy + truth.r * a.sin())).collect();
         let d = geometric(&pts, Disk { cx: 45.0, cy: -5.0, r: 70.0 }).unwrap();
         assert!((d.cx - truth.cx).abs() < 1e-6 && (d.cy - truth.cy).abs() < 1e-6 && (d.r - truth.r).abs() < 1e-6, "{d:?}");
     }

@@ -141,10 +141,19 @@ fn sphere_pattern(target: usize) -> Pattern {
     SphereView::new(glam::DVec3::new(-0.5, 0.5, 1.0), res.max(4)).pattern()
 }
 
-/// Time prepare and solve for one case.
-fn measure(name: String, pattern: &Pattern, settings: &Settings, res: usize, quick: bool) -> Result<Case> {
+/// The painting every timed case solves: the suite's third model on the case's pattern.
+fn case_values(pattern: &Pattern) -> Vec<[f64; 3]> {
     let model = Analytic::suite()[2].clone();
-    let values = pattern.shade(|q| model.shading(q));
+    pattern.shade(|q| model.shading(q))
+}
+
+/// The log mapping every timed solve uses.
+const CASE_OFFSET: f64 = 0.05;
+
+/// Time prepare and solve for one case.
+fn measure(spec: &CaseSpec, quick: bool) -> Result<Case> {
+    let (pattern, settings) = (&spec.pattern, &spec.settings);
+    let values = case_values(pattern);
     let mut prepared = None;
     let runs = if quick { 1 } else { 3 };
     let mut failure = None;
@@ -156,7 +165,7 @@ fn measure(name: String, pattern: &Pattern, settings: &Settings, res: usize, qui
         return Err(e);
     }
     let prepared = prepared.expect("prepare ran at least once");
-    let map = LogMap::Offset { a: [0.05; 3] };
+    let map = LogMap::Offset { a: [CASE_OFFSET; 3] };
     let budget = if quick { 0.05 } else { 0.5 };
     let mut result = Ok(());
     let solve_s = median_time(5, budget, || {
@@ -166,21 +175,42 @@ fn measure(name: String, pattern: &Pattern, settings: &Settings, res: usize, qui
     });
     result?;
     Ok(Case {
-        case: name,
+        case: spec.name.clone(),
         samples: Some(pattern.len()),
-        res: Some(res),
+        res: Some(spec.res),
         unknowns: Some(prepared.unknowns()),
         prepare_s: Some(prepare_s),
         solve_s: Some(solve_s),
+        thesis_s: spec.thesis.map(|t| t.1),
+        thesis_prepare_s: spec.thesis.map(|t| t.0),
         ..Default::default()
     })
 }
 
-/// The factorization cases of thesis Tables 5.1 and 5.2. `quick` shortens the timing
-/// loops (for tests and a first look), not the cases.
-pub fn factor_cases(quick: bool) -> Result<Vec<Case>> {
+/// One timed factorization case.
+struct CaseSpec {
+    name: String,
+    pattern: Pattern,
+    settings: Settings,
+    res: usize,
+    /// The thesis's (SVD pre-inversion, fast factorization) seconds, where it has the case.
+    thesis: Option<(f64, f64)>,
+    /// A case of the thesis's tables 5.1 and 5.2 (the reference implementation times those).
+    table: bool,
+}
+
+/// The cases of thesis Tables 5.1 and 5.2, and the 256² four-factor product beyond them.
+fn case_specs() -> Vec<CaseSpec> {
     let mut out = Vec::new();
     let p7884 = sphere_pattern(7884);
+    let spec = |name: String, pattern: &Pattern, settings: Settings, res: usize, thesis: Option<(f64, f64)>| CaseSpec {
+        name,
+        pattern: pattern.clone(),
+        settings,
+        res,
+        thesis,
+        table: true,
+    };
     // Table 5.1: (res, SVD 3-factor, SVD 4-factor, fast 3-factor, fast 4-factor).
     let t51 = [
         (32, 4.26, 247.36, 0.1834, 1.2649),
@@ -189,50 +219,51 @@ pub fn factor_cases(quick: bool) -> Result<Vec<Case>> {
         (128, 38.06, 506.11, 0.4375, 1.6877),
     ];
     for (res, svd3, svd4, fast3, fast4) in t51 {
-        let mut c = measure(format!("table5.1 3x1D M={res}"), &p7884, &Settings::uniform(1, res), res, quick)?;
-        c.thesis_s = Some(fast3);
-        c.thesis_prepare_s = Some(svd3);
-        out.push(c);
-        let mut c = measure(format!("table5.1 4-factor M={res} uv=32"), &p7884, &Settings::four_factor(1, res, 32), res, quick)?;
-        c.thesis_s = Some(fast4);
-        c.thesis_prepare_s = Some(svd4);
-        out.push(c);
+        out.push(spec(format!("table5.1 3x1D M={res}"), &p7884, Settings::uniform(1, res), res, Some((svd3, fast3))));
+        out.push(spec(format!("table5.1 4-factor M={res} uv=32"), &p7884, Settings::four_factor(1, res, 32), res, Some((svd4, fast4))));
     }
     // Table 5.2, 3-factor column: (res, SVD, fast) at 317 samples; 100m 12s = 6072 s.
     let t52 = [(16, 103.0, 0.0308), (32, 6072.0, 0.1048)];
     for target in [317, 10_000, 100_000] {
         let pattern = sphere_pattern(target);
+        let size = if target < 1000 { target.to_string() } else { format!("{}k", target / 1000) };
         for (res, svd, fast) in t52 {
-            let mut c = measure(
-                format!("table5.2 3x2D M={res} {} samples", if target < 1000 { target.to_string() } else { format!("{}k", target / 1000) }),
-                &pattern,
-                &Settings::uniform(2, res),
-                res,
-                quick,
-            )?;
-            if target == 317 {
-                c.thesis_s = Some(fast);
-                c.thesis_prepare_s = Some(svd);
-            }
-            out.push(c);
+            let thesis = (target == 317).then_some((svd, fast));
+            out.push(spec(format!("table5.2 3x2D M={res} {size} samples"), &pattern, Settings::uniform(2, res), res, thesis));
         }
     }
     // Table 5.2, 4-factor column: 1D factors of 32, a uv factor of res², 317 samples.
     let p317 = sphere_pattern(317);
     for (res, svd, fast) in [(16, 3.77, 0.0160), (32, 13.76, 0.0418), (48, 44.88, 0.0853), (64, 121.55, 0.1409)] {
-        let mut c = measure(format!("table5.2 4-factor uv={res} 317 samples"), &p317, &Settings::four_factor(1, 32, res), res, quick)?;
-        c.thesis_s = Some(fast);
-        c.thesis_prepare_s = Some(svd);
-        out.push(c);
+        out.push(spec(format!("table5.2 4-factor uv={res} 317 samples"), &p317, Settings::four_factor(1, 32, res), res, Some((svd, fast))));
     }
     // Beyond the thesis's 64²: the four-factor product with a 256² uv table (issue targets:
     // prepare ≤ 2 s, solve ≤ 20 ms), at 7.9k samples and at a 512² painting's ~200k.
     for target in [7884, 200_000] {
         let pattern = if target == 7884 { p7884.clone() } else { sphere_pattern(target) };
         let name = format!("4-factor M=128 uv=256 {}k samples", (target + 500) / 1000);
-        out.push(measure(name, &pattern, &Settings::four_factor(1, 128, 256), 256, quick)?);
+        out.push(CaseSpec { table: false, ..spec(name, &pattern, Settings::four_factor(1, 128, 256), 256, None) });
     }
-    Ok(out)
+    out
+}
+
+/// The factorization cases of thesis Tables 5.1 and 5.2 (and the 256² product beyond
+/// them). `quick` shortens the timing loops (for tests and a first look), not the cases.
+pub fn factor_cases(quick: bool) -> Result<Vec<Case>> {
+    case_specs().iter().map(|s| measure(s, quick)).collect()
+}
+
+/// Writes the systems of Tables 5.1 and 5.2 into `dir` for the reference implementation
+/// ([`super::systems`]).
+pub fn write_systems(dir: &std::path::Path) -> Result<()> {
+    let specs: Vec<CaseSpec> = case_specs().into_iter().filter(|s| s.table).collect();
+    let values: Vec<Vec<[f64; 3]>> = specs.iter().map(|s| case_values(&s.pattern)).collect();
+    let systems: Vec<super::systems::System<'_>> = specs
+        .iter()
+        .zip(&values)
+        .map(|(s, v)| super::systems::System { name: &s.name, pattern: &s.pattern, settings: &s.settings, values: v, offset: CASE_OFFSET })
+        .collect();
+    super::systems::write(dir, &systems)
 }
 
 /// A human-readable table of cases.

@@ -21,6 +21,7 @@ pub mod photos;
 pub mod rendered;
 mod stroke;
 pub mod suite;
+pub mod systems;
 
 use crate::brdf::{Reflectance, SphereView};
 use crate::error::Result;
