@@ -10,6 +10,8 @@ use faer::{Conj, Mat, Par, Side};
 
 use crate::error::{Error, Result};
 
+/// Factors with at least this many nonzeros are computed on every thread.
+const PARALLEL_FACTOR: usize = 200_000;
 /// Factors with more nonzeros than this split a few-column solve between two threads.
 const SPLIT_FROM: usize = 2_000_000;
 
@@ -28,8 +30,9 @@ impl SparseLlt {
         let sym = factorize_symbolic_cholesky(mat.symbolic(), Side::Lower, SymmetricOrdering::Amd, Default::default())
             .map_err(|e| Some(Error::Numeric(format!("symbolic factorization failed: {e:?}"))))?;
         let mut values = vec![0.0; sym.len_val()];
-        // The numeric factorization is the heavy part: threads pay off there.
-        let par = Par::rayon(0);
+        // The numeric factorization is the heavy part: threads pay off there, once the factor
+        // is large enough to outweigh forking them (below, one core is faster).
+        let par = if sym.len_val() >= PARALLEL_FACTOR { Par::rayon(0) } else { Par::Seq };
         let scratch = sym.factorize_numeric_llt_scratch::<f64>(par, Default::default());
         let mut mem = MemBuffer::try_new(scratch).map_err(|_| Some(Error::Numeric("out of memory".into())))?;
         sym.factorize_numeric_llt::<f64>(

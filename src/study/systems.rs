@@ -2,8 +2,8 @@
 //! (`tools/reference/cholesky.py`, DESIGN.md's numpy/scipy Cholesky peer): each case's
 //! design matrix $\mathbf A$, its regularization rows $\mathbf R$ (so that
 //! $\mathbf G = \mathbf A^\top \mathbf A + \mathbf R^\top \mathbf R + \epsilon \mathbf I$,
-//! eq. 3.4 with smoothing), the sample values and the log mapping's offset, as `.npy` files
-//! numpy reads without a parser of ours.
+//! eq. 3.4 with smoothing), the samples' directions and values, each factor's table and the
+//! log mapping's offset, as `.npy` files numpy reads without a parser of ours.
 
 use std::path::Path;
 
@@ -23,7 +23,9 @@ pub struct System<'a> {
 }
 
 /// Writes every system into `dir` (whole or not at all): `NN.a_indptr.npy`, `NN.a_indices.npy`,
-/// `NN.a_data.npy`, the same three for `r`, `NN.values.npy`, and `cases.json` naming them.
+/// `NN.a_data.npy`, the same three for `r`, `NN.values.npy`, `NN.queries.npy` (l, v, uv per
+/// sample, from which the reference builds its own A), and `cases.json` naming them with
+/// each case's factors.
 pub fn write(dir: &Path, systems: &[System<'_>]) -> Result<()> {
     let staged = StagedDir::new(dir, Claim::new(&[], Legacy::Paths(Default::default())))?;
     let mut index = Vec::new();
@@ -32,7 +34,8 @@ pub fn write(dir: &Path, systems: &[System<'_>]) -> Result<()> {
         let design = Design::new(s.pattern, s.settings)?;
         let reg = system::regularization(s.settings, &design);
         let rows = design.rows();
-        let files: [(&str, Vec<u8>); 7] = [
+        let queries: Vec<f64> = s.pattern.queries.iter().flat_map(|q| [q.l.x, q.l.y, q.l.z, q.v.x, q.v.y, q.v.z, q.uv.x, q.uv.y]).collect();
+        let files: [(&str, Vec<u8>); 8] = [
             ("a_indptr", npy_u32(&design.row_ptr)),
             ("a_indices", npy_u32(&design.row_col)),
             ("a_data", npy_f64(&design.row_val, &[design.row_val.len()])),
@@ -40,6 +43,7 @@ pub fn write(dir: &Path, systems: &[System<'_>]) -> Result<()> {
             ("r_indices", npy_u32(&reg.iter().flatten().map(|&(i, _)| i as u32).collect::<Vec<_>>())),
             ("r_data", npy_f64(&reg.iter().flatten().map(|&(_, x)| x).collect::<Vec<_>>(), &[reg.iter().map(Vec::len).sum()])),
             ("values", npy_f64(&s.values.iter().flatten().copied().collect::<Vec<_>>(), &[s.values.len(), 3])),
+            ("queries", npy_f64(&queries, &[s.pattern.len(), 8])),
         ];
         for (part, bytes) in files {
             staged.write(&format!("{stem}.{part}.npy"), |p| std::fs::write(p, bytes).map_err(|e| Error::io(p, e)))?;
@@ -53,6 +57,7 @@ pub fn write(dir: &Path, systems: &[System<'_>]) -> Result<()> {
             // The diagonal floor of `system::normal_matrix`.
             "floor": 1e-12 * rows as f64 / design.n as f64,
             "offset": s.offset,
+            "factors": s.settings.factors,
         }));
     }
     let json = serde_json::to_string_pretty(&index).map_err(|e| Error::input(e.to_string()))?;

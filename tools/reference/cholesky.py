@@ -2,13 +2,15 @@
 """The numpy/scipy peer of DESIGN.md: the same systems as `brdfpaint bench --tables`,
 pre-factored by Cholesky, timed side by side with brdfpaint in one run.
 
-prepare: A and R from their compressed rows, G = A^T A + R^T R + floor I (eq. 3.4 with the
-smoothing rows), dense Cholesky (scipy.linalg.cho_factor, LAPACK).
+prepare: A from the samples' directions (each factor's table coordinate and its linear or
+bilinear stencil, vectorized: `design` below), G = A^T A + R^T R + floor I (eq. 3.4 with
+the smoothing rows R, read as brdfpaint wrote them), dense Cholesky (scipy.linalg.cho_factor,
+LAPACK): the work brdfpaint times as prepare_s.
 solve:   log(f + a), b = A^T log(f + a) for R, G, B at once, cho_solve, exp: one refit,
 the work `brdfpaint bench` times as solve_s.
 
-Building A from the samples' stencils is left out of the reference's prepare (brdfpaint's
-includes it), so the ratios are conservative.
+Before timing, the A built here is checked against the A brdfpaint wrote (same entries to
+1e-9), so both sides solve the same system.
 
 Usage: tools/reference/cholesky.py [--brdfpaint target/release/brdfpaint] [--rounds 2]
 Prints a Markdown table: per case, the reference's and brdfpaint's medians and the ratios
@@ -38,6 +40,81 @@ def median_time(f, min_runs, budget_s):
     return statistics.median(times)
 
 
+def theta_to_rho(c, s):
+    """tan(theta/2) above the horizon, 2 - tan((pi - theta)/2) below (the extended radius)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(c >= 0, s / (1 + c), 2 - s / (1 - c))
+
+
+def coordinate(spec, l, v, uv):
+    """Table coordinates (N x 2) of one factor, as brdfpaint's factor::system::coordinate."""
+    kind = spec["input"]
+    if kind == "uv":
+        return np.clip(uv, 0, 1)
+    if kind == "light":
+        d = l
+    elif kind == "view":
+        d = v
+    elif kind == "half":
+        h = l + v
+        n = np.linalg.norm(h, axis=1, keepdims=True)
+        d = np.where(n > 1e-12, h / np.where(n > 1e-12, n, 1), [0, 0, 1])
+    else:
+        raise SystemExit(f"factor input {kind} is not in the reference")
+    s = np.hypot(d[:, 0], d[:, 1])
+    z = d[:, 2]
+    hemi = spec["domain"] == "hemisphere"
+    if spec["param"] == "radius":
+        t = np.where(z <= 0, 1.0, np.minimum(s / (1 + np.maximum(z, 0)), 1.0)) if hemi else theta_to_rho(z, s) * 0.5
+        warp = spec.get("warp", 1.0)
+        if warp != 1.0:
+            t = np.clip(t, 0, 1) ** (1 / warp)
+        return np.stack([t, np.zeros_like(t)], axis=1)
+    if spec["param"] == "parabolic":
+        safe = np.where(s > 1e-12, s, 1)
+        az = np.where((s > 1e-12)[:, None], d[:, :2] / safe[:, None], [1, 0])
+        if hemi:
+            r, scale = np.minimum(theta_to_rho(np.maximum(z, 0), np.where(z <= 0, 1.0, s)), 1.0), 1.0
+        else:
+            r, scale = theta_to_rho(z, s), 0.5
+        return (az * (r * scale)[:, None] + 1) * 0.5
+    raise SystemExit(f"parameterization {spec['param']} is not in the reference")
+
+
+def cell(t, m):
+    x = np.clip(t, 0, 1) * (m - 1)
+    i = np.minimum(np.floor(x), m - 2)
+    return i.astype(np.int64), x - i
+
+
+def design(case, queries):
+    """The sample matrix A (CSR): per factor, the stencil of each sample's coordinate."""
+    l, v, uv = queries[:, 0:3], queries[:, 3:6], queries[:, 6:8]
+    rows, cols, vals, offset = [], [], [], 0
+    sample = np.arange(len(queries))
+    for spec in case["factors"]:
+        m = spec["res"]
+        t = coordinate(spec, l, v, uv)
+        i, fx = cell(t[:, 0], m)
+        if spec["param"] == "radius":
+            idx, w = [i, i + 1], [1 - fx, fx]
+            size = m
+        else:
+            j, fy = cell(t[:, 1], m)
+            idx = [j * m + i, j * m + i + 1, (j + 1) * m + i, (j + 1) * m + i + 1]
+            w = [(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy]
+            size = m * m
+        for k, wk in zip(idx, w):
+            rows.append(sample)
+            cols.append(offset + k)
+            vals.append(wk)
+        offset += size
+    a = scipy.sparse.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                                shape=(len(queries), offset))
+    a.eliminate_zeros()
+    return a
+
+
 def load(folder, stem, part):
     return np.load(os.path.join(folder, f"{stem}.{part}.npy"))
 
@@ -45,13 +122,18 @@ def load(folder, stem, part):
 def reference_case(folder, case):
     stem, n = case["stem"], case["unknowns"]
     parts = {p: load(folder, stem, p) for p in
-             ("a_indptr", "a_indices", "a_data", "r_indptr", "r_indices", "r_data", "values")}
+             ("a_indptr", "a_indices", "a_data", "r_indptr", "r_indices", "r_data", "values", "queries")}
     rows = len(parts["a_indptr"]) - 1
     reg_rows = len(parts["r_indptr"]) - 1
     state = {}
+    written = scipy.sparse.csr_matrix((parts["a_data"], parts["a_indices"], parts["a_indptr"]), shape=(rows, n))
+    mine = design(case, parts["queries"])
+    gap = abs(mine - written).max() if mine.shape == written.shape else float("inf")
+    if gap > 1e-9:
+        raise SystemExit(f"{case['case']}: the reference's A differs from brdfpaint's by {gap}")
 
     def prepare():
-        a = scipy.sparse.csr_matrix((parts["a_data"], parts["a_indices"], parts["a_indptr"]), shape=(rows, n))
+        a = design(case, parts["queries"])
         r = scipy.sparse.csr_matrix((parts["r_data"], parts["r_indices"], parts["r_indptr"]), shape=(reg_rows, n))
         at = a.T.tocsr()
         g = (at @ a + r.T @ r).toarray()
