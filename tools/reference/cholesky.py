@@ -25,9 +25,13 @@ import sys
 import tempfile
 import time
 
-import numpy as np
-import scipy.linalg
-import scipy.sparse
+try:
+    import numpy as np
+    import scipy.linalg
+    import scipy.sparse
+except ImportError as e:
+    raise SystemExit(f"error: the reference needs numpy and scipy ({e}); "
+                     "sudo apt install python3-numpy python3-scipy, or pip install numpy scipy in a venv")
 
 
 def median_time(f, min_runs, budget_s):
@@ -154,8 +158,14 @@ def reference_case(folder, case):
 
 def ours(binary, folder=None):
     cmd = [binary, "bench", "--tables", "--json"] + (["--systems", folder] if folder else [])
-    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
-    return {c["case"]: c for c in json.loads(out)}
+    try:
+        run = subprocess.run(cmd, capture_output=True, text=True)
+    except OSError as e:
+        raise SystemExit(f"error: cannot run {binary} ({e.strerror}); build it with `cargo build --release` "
+                         "or name it with --brdfpaint")
+    if run.returncode != 0:
+        raise SystemExit(f"error: {' '.join(cmd)} failed: {run.stderr.strip()}")
+    return {c["case"]: c for c in json.loads(run.stdout)}
 
 
 def main():
