@@ -377,8 +377,8 @@ pub(crate) fn regularization(settings: &Settings, design: &Design) -> Rows {
     out
 }
 
-/// Systems at most this large may assemble $\mathbf G$ in a dense lower triangle (n² / 2
-/// values, 9 MB at 1536).
+/// Systems at most this large may assemble $\mathbf G$ in a dense matrix whose lower
+/// triangle is used (n² values, 19 MB at 1536).
 const DENSE_ASSEMBLY: usize = 1536;
 /// Samples from which the dense assembly splits the rows between threads, each with its own
 /// triangle (below, zeroing a second triangle costs more than it saves).
@@ -392,9 +392,10 @@ pub fn normal_matrix(design: &Design, settings: &Settings, progress: Option<&ind
     // matters for directions nothing else determines (a 2D table sampled along a curve),
     // which it sets to zero instead of letting the factorization fail.
     let floor = 1e-12 * design.rows() as f64 / design.n as f64;
-    // Cost model: the dense triangle pays about the same per entry (clearing, scanning) as
-    // the column-by-column product pays per sample product, which adds each outer product
-    // without looking up where its entries go; the cheaper of the two totals wins.
+    // Cost model (measured): clearing and scanning the dense matrix costs about as much per
+    // entry as the column-by-column product costs per sample product (a row of k entries
+    // makes k²), and adding a product into the dense matrix is nearly free; so dense when
+    // the samples' products outnumber its entries.
     let products: usize = design.row_ptr.windows(2).map(|w| ((w[1] - w[0]) as usize).pow(2)).sum();
     if design.n <= DENSE_ASSEMBLY && design.n * design.n < products {
         dense_normal_matrix(design, &reg, floor)
