@@ -308,11 +308,6 @@ pub struct SymCsc {
 }
 
 impl SymCsc {
-    /// Fraction of nonzero entries.
-    pub fn density(&self) -> f64 {
-        self.val.len() as f64 / (self.n as f64 * self.n as f64)
-    }
-
     /// Dense copy, column-major.
     pub fn to_dense(&self) -> faer::Mat<f64> {
         let mut m = faer::Mat::<f64>::zeros(self.n, self.n);
