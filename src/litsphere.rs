@@ -25,6 +25,9 @@
 //! that spread is wide (a MatCap lit by its surroundings), the picture cannot decide: the
 //! light taken is the plausible key light among those directions (upper front), and a note
 //! says so.
+//!
+//! **Stylized pictures** (toon, cel) are read as drawn instead ([`style`]): the light from
+//! their tone edges ([`estimate_tone_light`]), fine tables, no light prior, a robust solve.
 
 use std::path::Path;
 
@@ -42,8 +45,10 @@ use crate::sample::{Erosion, PaintedView, SceneSampler};
 pub mod edges;
 mod light;
 mod segment;
+pub mod style;
 
-pub use light::{estimate_light, LightEstimate, KEY, MIN_LIGHT_Z, UNDECIDED_DEG};
+pub use light::{estimate_light, estimate_tone_light, LightEstimate, KEY, MIN_LIGHT_Z, UNDECIDED_DEG};
+pub use style::Style;
 use segment::{border_median, components, otsu, perceptual_distance};
 
 /// Longest side a lit-sphere picture is fitted at: larger pictures are box-filtered down
@@ -507,6 +512,8 @@ pub struct LitSphere {
     /// `None` when the user gave the light.
     pub estimate: Option<LightEstimate>,
     pub light: DVec3,
+    /// Physical or stylized, and why.
+    pub stylization: Stylization,
 }
 
 impl LitSphere {
@@ -521,39 +528,96 @@ impl LitSphere {
     }
 }
 
+/// What a user asks of a lit-sphere fit, beyond the pipeline's options.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ask {
+    /// Towards the light, view frame; estimated when `None`.
+    pub light: Option<DVec3>,
+    /// The outline, pixels of the file as it is; found when `None`.
+    pub disk: Option<Disk>,
+    /// The longest side the picture is fitted at (larger ones are box-filtered down).
+    pub max_side: usize,
+    pub style: Style,
+    /// The user chose the tables' resolution or their smoothing: a stylized fit keeps it.
+    pub res_given: bool,
+    pub smooth_given: bool,
+}
+
+impl Default for Ask {
+    fn default() -> Self {
+        Ask { light: None, disk: None, max_side: MAX_SIDE, style: Style::Auto, res_given: false, smooth_given: false }
+    }
+}
+
+/// How a picture was read, physical or stylized, and why ([`style::tones`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stylization {
+    pub asked: Style,
+    pub stylized: bool,
+    pub tones: style::Tones,
+}
+
+impl Stylization {
+    fn decide(asked: Style, picture: &Picture) -> Stylization {
+        let tones = style::tones(&picture.painting, &picture.disk);
+        let stylized = match asked {
+            Style::Physical => false,
+            Style::Stylized => true,
+            Style::Auto => tones.stylized(),
+        };
+        Stylization { asked, stylized, tones }
+    }
+
+    /// The note that says how the picture was read.
+    pub fn note(&self, picture: &str) -> Note {
+        let t = self.tones;
+        Note::Style { picture: picture.to_string(), stylized: self.stylized, decided: self.asked == Style::Auto, tones: t.count, share: t.share }
+    }
+}
+
 /// Fits a material to a lit-sphere picture or MatCap at `path` (PNG, JPEG, EXR), lit from
 /// `light` (view frame, towards the light) or from the estimated light.
 pub fn fit(path: &Path, light: Option<DVec3>, opts: &Options, cache: Option<&Cache>) -> Result<LitSphere> {
-    fit_sized(path, light, opts, cache, MAX_SIDE)
+    fit_in(path, &Ask { light, ..Ask::default() }, opts, cache)
 }
 
 /// [`fit`], with the picture box-filtered to at most `max_side` pixels a side.
 pub fn fit_sized(path: &Path, light: Option<DVec3>, opts: &Options, cache: Option<&Cache>, max_side: usize) -> Result<LitSphere> {
-    fit_in(path, light, None, opts, cache, max_side)
+    fit_in(path, &Ask { light, max_side, ..Ask::default() }, opts, cache)
 }
 
-/// [`fit_sized`], with the disk given (`disk`: pixels of the file as it is) or found.
-pub fn fit_in(path: &Path, light: Option<DVec3>, disk: Option<Disk>, opts: &Options, cache: Option<&Cache>, max_side: usize) -> Result<LitSphere> {
-    let opts = &Options { settings: settings(&opts.settings), ..opts.clone() };
-    let picture = Picture::read_in(path, max_side, disk)?;
-    let (light, estimate) = match light {
+/// [`fit`] as `ask` says: the disk given or found, the picture read physically or as drawn
+/// ([`style`]), the light given or estimated (from the tone edges when stylized).
+pub fn fit_in(path: &Path, ask: &Ask, opts: &Options, cache: Option<&Cache>) -> Result<LitSphere> {
+    let picture = Picture::read_in(path, ask.max_side, ask.disk)?;
+    let stylization = Stylization::decide(ask.style, &picture);
+    let opts = &match stylization.stylized {
+        false => Options { settings: settings(&opts.settings), ..opts.clone() },
+        true => Options {
+            settings: style::settings(&opts.settings, &picture.disk, ask.res_given, ask.smooth_given),
+            robust: Some(style::robust()),
+            ..opts.clone()
+        },
+    };
+    let (light, estimate) = match ask.light {
         Some(l) => (direction(l).map_err(|e| Error::input(format!("--{e}")))?, None),
         None => {
-            let e = picture.estimate_light()?;
+            let e = if stylization.stylized { estimate_tone_light(&picture.painting, &picture.disk)? } else { picture.estimate_light()? };
             (e.direction, Some(e))
         }
     };
     let scene = picture.scene(light);
-    let disk_note = picture.disk_note();
+    let notes = [picture.disk_note(), stylization.note(&picture.name)];
     let Picture { name, painting, disk, outline, seen, .. } = picture;
     let mut sampler = SceneSampler::new()?;
     let geometry = sampler.geometry(&scene, painting.width, painting.height, Erosion::default())?;
     let view = PaintedView { name: name.clone(), source: format!("{name} (lit sphere)"), geometry, painting };
     let mut fitted = pipeline::fit(std::slice::from_ref(&view), opts, cache)?;
-    // Where the disk is and how sure the light is come first, with the material's provenance.
+    // Where the disk is, how the picture was read and how sure the light is come first,
+    // with the material's provenance.
     let undecided = estimate.filter(|e| e.undecided).map(|e| Note::LightUndecided { picture: name.clone(), spread_deg: e.spread_deg });
-    fitted.prepend_notes(&std::iter::once(disk_note).chain(undecided).collect::<Vec<_>>());
-    Ok(LitSphere { fitted, view, scene, disk, outline, seen, estimate, light })
+    fitted.prepend_notes(&notes.into_iter().chain(undecided).collect::<Vec<_>>());
+    Ok(LitSphere { fitted, view, scene, disk, outline, seen, estimate, light, stylization })
 }
 
 #[cfg(test)]

@@ -64,6 +64,9 @@ pub enum Note {
     /// from the one chosen explain its shading as well, and the plausible key light among
     /// them (upper front) was taken.
     LightUndecided { picture: String, spread_deg: f64 },
+    /// A lit sphere read physically or as drawn (`decided`: by `--style auto`, from its
+    /// `tones` flat tones holding `share` of the disk).
+    Style { picture: String, stylized: bool, decided: bool, tones: usize, share: f64 },
     /// A scene with several cameras or lights (`what`), of which the first (`used`) is used.
     FirstOfMany { scene: String, what: &'static str, count: usize, used: String },
 }
@@ -93,6 +96,8 @@ pub enum Remedy {
     GiveDisk,
     /// Give the lit sphere's light.
     GiveLight,
+    /// Choose how a lit sphere is read, physical or stylized.
+    Style,
 }
 
 impl Note {
@@ -110,6 +115,8 @@ impl Note {
             Note::Encodings { .. } => Some(Remedy::Encoding),
             Note::Disk { given: false, .. } => Some(Remedy::GiveDisk),
             Note::LightUndecided { .. } => Some(Remedy::GiveLight),
+            Note::Style { decided: true, .. } => Some(Remedy::Style),
+            Note::Style { decided: false, .. } => None,
             Note::Page { .. }
             | Note::TonesLobe { .. }
             | Note::FresnelUnseen { .. }
@@ -207,6 +214,18 @@ impl fmt::Display for Note {
                 "{}: the shading does not decide the light (lit by its surroundings: directions up to {spread_deg:.0}° apart explain it as well); took the plausible key light among them, the one nearest the upper front",
                 one_line(picture)
             ),
+            Note::Style { picture, stylized: true, tones, share, .. } => write!(
+                f,
+                "{}: read as drawn (stylized): {tones} flat tones hold {:.0}% of the disk; its tone edges set the light, and the fit keeps them hard",
+                one_line(picture),
+                100.0 * share
+            ),
+            Note::Style { picture, stylized: false, tones, share, .. } => write!(
+                f,
+                "{}: read as physical shading: its values spread (its {tones} most common tones hold {:.0}% of the disk; a drawing in flat tones, 90% or more)",
+                one_line(picture),
+                100.0 * share
+            ),
             Note::FirstOfMany { scene, what, count, used } => {
                 write!(f, "{} has {count} {what}; {} is used (the first in node order), the others are ignored", one_line(scene), one_line(used))
             }
@@ -239,11 +258,13 @@ mod tests {
             Note::Disk { picture: "s.jpg".into(), cx: 100.0, cy: 90.5, r: 60.0, seen: 0.78, given: false },
             Note::Disk { picture: "s.jpg".into(), cx: 100.0, cy: 90.5, r: 60.0, seen: 0.78, given: true },
             Note::LightUndecided { picture: "m.exr".into(), spread_deg: 40.0 },
+            Note::Style { picture: "toon.png".into(), stylized: true, decided: true, tones: 3, share: 0.97 },
+            Note::Style { picture: "clay.png".into(), stylized: false, decided: false, tones: 1, share: 0.2 },
         ];
         for note in &notes {
             let line = note.to_string();
             assert!(!line.contains('\n') && !line.contains("--"), "{line}");
         }
-        assert_eq!(notes.iter().filter(|n| n.remedy().is_some()).count(), 11);
+        assert_eq!(notes.iter().filter(|n| n.remedy().is_some()).count(), 12);
     }
 }

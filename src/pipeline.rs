@@ -25,7 +25,7 @@ use crate::commit::StagedDir;
 use crate::error::{Error, Result};
 use crate::factor::cache::{Cache, Outcome};
 use crate::read::lobe::BaseChoice;
-use crate::factor::{defaults, difference_range, DifferenceChoice, DIFFERENCE_REACH_DEG, Errors, Fit, Mapping, Prepared, Settings};
+use crate::factor::{defaults, difference_range, DifferenceChoice, DIFFERENCE_REACH_DEG, Errors, Fit, Mapping, Prepared, Robust, Settings};
 use crate::images::Rgb;
 use crate::material::map::{self, MapOptions, MapReport};
 use crate::material::{Kind, Material, Provenance};
@@ -52,11 +52,14 @@ pub struct Options {
     /// Whether the product gets a factor of $\theta_d$ ([`DifferenceChoice`], issue 15):
     /// `auto` adds it to a uniform fit whose paintings show side or back light.
     pub difference: DifferenceChoice,
+    /// A robust solve of the product ([`Prepared::solve_robust`]) instead of least squares:
+    /// `None` by default; a stylized lit sphere's ([`crate::litsphere::style::robust`]).
+    pub robust: Option<Robust>,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Options { kind: Kind::Uniform, settings: Settings::default(), mapping: Mapping::Auto, map: MapOptions::default(), base: BaseChoice::None, difference: DifferenceChoice::Auto }
+        Options { kind: Kind::Uniform, settings: Settings::default(), mapping: Mapping::Auto, map: MapOptions::default(), base: BaseChoice::None, difference: DifferenceChoice::Auto, robust: None }
     }
 }
 
@@ -80,7 +83,7 @@ impl Options {
         if matches!(kind, Kind::MaterialMap | Kind::Hybrid) {
             map.coef_res = uv_res.unwrap_or(map.coef_res);
         }
-        Ok(Options { kind, settings, mapping: Mapping::Auto, map, base: BaseChoice::None, difference: DifferenceChoice::Auto })
+        Ok(Options { kind, settings, mapping: Mapping::Auto, map, ..Options::default() })
     }
 }
 
@@ -183,6 +186,11 @@ pub struct Solved {
 /// Prepare (through `cache` when given: a standard scene is prepared once, ever) and solve
 /// one product. The prepared system depends only on `samples.pattern` and `settings`.
 pub fn solve(samples: &Samples, settings: &Settings, mapping: Mapping, cache: Option<&Cache>) -> Result<Solved> {
+    solve_as(samples, settings, mapping, None, cache)
+}
+
+/// [`solve`], robust when `robust` is given (its light prior the settings').
+fn solve_as(samples: &Samples, settings: &Settings, mapping: Mapping, robust: Option<&Robust>, cache: Option<&Cache>) -> Result<Solved> {
     settings.validate()?;
     if samples.is_empty() {
         return Err(Error::input("there are no samples to fit"));
@@ -194,7 +202,10 @@ pub fn solve(samples: &Samples, settings: &Settings, mapping: Mapping, cache: Op
     };
     let prepare_s = start.elapsed().as_secs_f64();
     let start = Instant::now();
-    let fit = prepared.solve(&samples.values, mapping)?;
+    let fit = match robust {
+        Some(r) => prepared.solve_robust(&samples.values, mapping, &Robust { light_prior: settings.light_prior, ..r.clone() })?,
+        None => prepared.solve(&samples.values, mapping)?,
+    };
     let solve_s = start.elapsed().as_secs_f64();
     Ok(Solved { prepared, fit, outcome, prepare_s, solve_s })
 }
@@ -306,7 +317,7 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
         Kind::MaterialMap | Kind::Hybrid => settings,
     };
     let headlit = settings.light_prior.is_some() && opts.settings.light_prior.is_none();
-    let solved = solve(&samples, &settings, opts.mapping, cache)?;
+    let solved = solve_as(&samples, &settings, opts.mapping, opts.robust.as_ref(), cache)?;
     let provenance = provenance(sources(views), Some(solved.fit.errors), samples.len(), solved.prepare_s, solved.solve_s);
     let mut uniform = Material::from_fit(&settings, &solved.fit, provenance.clone())?;
     if opts.kind == Kind::Uniform {

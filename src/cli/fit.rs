@@ -40,6 +40,14 @@ pub(super) enum KindArg {
     Hybrid,
 }
 
+/// How a lit sphere is read (`--style`).
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(super) enum StyleArg {
+    Physical,
+    Stylized,
+    Auto,
+}
+
 /// Material-map fitting methods.
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(super) enum MapFitArg {
@@ -82,6 +90,13 @@ pub(super) struct FitArgs {
     /// Everything outside it is not a sample.
     #[arg(long, value_name = "CX,CY,R", value_parser = parse_disk, allow_hyphen_values = true, requires = "lit_sphere")]
     disk: Option<litsphere::Disk>,
+    /// With --lit-sphere: how the picture is read. physical: as shading, smooth, under a
+    /// physical prior; stylized: as drawn (toon, cel): the light from its tone edges, tables
+    /// as fine as the picture, its hard terminator and highlight kept; auto: stylized when
+    /// 90% of the disk lies in a few (2 to 8) flat tones covering at most half its range of
+    /// values, and a note says what was decided.
+    #[arg(long, value_enum, default_value = "auto", requires = "lit_sphere")]
+    style: StyleArg,
     /// A folder of photographs in the photometric-stereo layout (DiLiGenT's): the images,
     /// filenames.txt naming them, light_directions.txt (one x y z per image),
     /// light_intensities.txt (one r g b per image), mask.png and a normal map (normal.exr,
@@ -261,8 +276,8 @@ pub(super) fn run(args: FitArgs) -> std::result::Result<(), Failure> {
                 [one] if !inputs.is_library() => Ok(run_lit_sphere(&one.path, &args, &opts)?),
                 _ if args.disk.is_some() => Err(Failure::Usage("--disk gives the circle of one picture, not of a library".into())),
                 _ => {
-                    let max_side = args.max_side.unwrap_or(super::library::MAX_SIDE);
-                    Ok(super::library::run(&inputs, args.light.first().map(|l| l.direction), &opts, max_side, &args.out)?)
+                    let ask = litsphere::Ask { max_side: args.max_side.unwrap_or(super::library::MAX_SIDE), disk: None, ..lit_ask(&args) };
+                    Ok(super::library::run(&inputs, ask, &opts, &args.out)?)
                 }
             }
         }
@@ -310,10 +325,24 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
 
 /// A lit sphere or MatCap: find the disk, estimate the light (or take --light), fit, and
 /// write the material with its report and the scene it was fitted in.
+/// What `fit --lit-sphere` asks of one picture.
+fn lit_ask(args: &FitArgs) -> litsphere::Ask {
+    litsphere::Ask {
+        light: args.light.first().map(|l| l.direction),
+        disk: args.disk,
+        max_side: args.max_side.unwrap_or(litsphere::MAX_SIDE),
+        style: match args.style {
+            StyleArg::Physical => litsphere::Style::Physical,
+            StyleArg::Stylized => litsphere::Style::Stylized,
+            StyleArg::Auto => litsphere::Style::Auto,
+        },
+        res_given: args.res.is_some(),
+        smooth_given: args.lambda.is_some(),
+    }
+}
+
 fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
-    let light = args.light.first().map(|l| l.direction);
-    let max_side = args.max_side.unwrap_or(litsphere::MAX_SIDE);
-    let lit = litsphere::fit_in(image, light, args.disk, opts, Cache::user().as_ref(), max_side)?;
+    let lit = litsphere::fit_in(image, &lit_ask(args), opts, Cache::user().as_ref())?;
     let how = match lit.outline {
         litsphere::Outline::Alpha => "its alpha",
         litsphere::Outline::Background => "its background",
@@ -381,6 +410,7 @@ pub(super) fn say(note: &Note) {
         Remedy::Encoding => "--encoding srgb|linear says how",
         Remedy::GiveDisk => "--disk CX,CY,R gives it",
         Remedy::GiveLight => "--light X,Y,Z gives it",
+        Remedy::Style => "--style physical|stylized chooses",
     });
     let prefix = if note.is_warning() { "" } else { "note: " };
     match hint {

@@ -4,11 +4,10 @@
 
 use std::path::Path;
 
-use glam::DVec3;
-
 use brdfpaint::error::{Error, Result};
 use brdfpaint::factor::cache::Cache;
 use brdfpaint::library::{self, Failed, Inputs, Job, Outcome};
+use brdfpaint::litsphere;
 use brdfpaint::pipeline::Options;
 
 /// Longest side a library's pictures are fitted at by default (`--max-side`); one picture
@@ -16,10 +15,10 @@ use brdfpaint::pipeline::Options;
 /// samples: a MatCap's shading is smooth, and 100 of them fit within two minutes on two cores.
 pub(super) const MAX_SIDE: usize = 256;
 
-/// Fits every picture of `inputs` into the library `out`, lit from `light` when given, each
-/// at most `max_side` pixels a side. Errors: the library could not be written, or a picture
+/// Fits every picture of `inputs` into the library `out` as `ask` says (the light when
+/// given, the side each is fitted at, how each is read). Errors: the library could not be written, or a picture
 /// failed (each has had its line).
-pub(super) fn run(inputs: &Inputs, light: Option<DVec3>, opts: &Options, max_side: usize, out: &Path) -> Result<()> {
+pub(super) fn run(inputs: &Inputs, ask: litsphere::Ask, opts: &Options, out: &Path) -> Result<()> {
     library::check_output(out)?;
     for (dir, pictures, others) in &inputs.folders {
         let ignored = match others {
@@ -32,7 +31,7 @@ pub(super) fn run(inputs: &Inputs, light: Option<DVec3>, opts: &Options, max_sid
     let n = inputs.pictures.len();
     let cache = Cache::user();
     let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let job = Job { light, opts, max_side, cache: cache.as_ref(), workers };
+    let job = Job { ask, opts, cache: cache.as_ref(), workers };
     let bar = brdfpaint::util::progress_enabled().then(|| progress_bar(n));
     let tell = |outcome: Outcome| {
         if let Outcome::Failed(f) = outcome {

@@ -16,11 +16,10 @@ use crate::pipeline::Options;
 
 /// What every picture of a library is fitted with.
 pub struct Job<'a> {
-    /// The light of every picture, towards it (view frame); `None`: each one's estimate.
-    pub light: Option<DVec3>,
+    /// The light of every picture (`None`: each one's estimate), the side it is fitted at
+    /// and how it is read ([`litsphere::Ask`]; no disk: each one's own).
+    pub ask: litsphere::Ask,
     pub opts: &'a Options,
-    /// Longest side a picture is fitted at ([`litsphere::fit_sized`]).
-    pub max_side: usize,
     pub cache: Option<&'a Cache>,
     /// Fits at once (at least 1).
     pub workers: usize,
@@ -120,7 +119,7 @@ fn fit_all(pictures: &[Picture], job: &Job, staged: &StagedDir, tell: &(dyn Fn(O
 /// One picture fitted and saved into the staged library's `NAME/` by the path `fit
 /// --lit-sphere` takes; the fit itself (its system and samples) is dropped before the next.
 fn fit_one(picture: &Picture, job: &Job, staged: &StagedDir) -> Result<Fitted> {
-    let lit = litsphere::fit_sized(&picture.path, job.light, job.opts, job.cache, job.max_side)?;
+    let lit = litsphere::fit_in(&picture.path, &job.ask, job.opts, job.cache)?;
     staged.fill(|dir| lit.save(&picture.path, &dir.join(&picture.name)))?;
     Ok(Fitted {
         name: picture.name.clone(),

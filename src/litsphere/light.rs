@@ -1,8 +1,10 @@
 //! The key light of a lit-sphere picture: the direction over the whole front hemisphere
 //! whose Lambertian shading, with a robust weight, best explains the disk's luminance, and
-//! how sure that is ([`estimate_light`]).
+//! how sure that is ([`estimate_light`]); for a stylized picture, the direction its tone
+//! edges and highlight are drawn about ([`estimate_tone_light`]).
 
 use glam::{DMat3, DVec3};
+use rayon::prelude::*;
 
 use super::Disk;
 use crate::error::{Error, Result};
@@ -113,7 +115,7 @@ fn model_cost(l: DVec3, normals: &[DVec3], y: &[f64], weight: &[f64]) -> Option<
 /// picture cannot decide: the estimate is the mean of those directions weighted by how well
 /// they explain it and by a broad prior around the upper front ([`KEY`]), and `undecided`.
 pub fn estimate_light(p: &Painting, disk: &Disk) -> Result<LightEstimate> {
-    let (normals, y) = disk_samples(p, disk)?;
+    let (normals, y) = disk_samples(p, disk, 4000)?;
     let coarse = front_directions(6000);
     let (mut best, mut cost, weight) = robust_best(&coarse, &normals, &y)?;
     // Refine in a cap of 4° around the best.
@@ -134,12 +136,76 @@ pub fn estimate_light(p: &Painting, disk: &Disk) -> Result<LightEstimate> {
     Ok(LightEstimate { direction, spread_deg: widest(direction).to_degrees(), inliers, undecided })
 }
 
+/// The key light of a stylized picture: the direction under which its luminance is what
+/// the factored model draws, a function of $n \cdot l$ plus one of $n \cdot h$ (the
+/// terminator and the highlight: $p\,q$ of eq. 3.1, added in display codes; the view's
+/// $r(n \cdot v)$ does not depend on the light, and given the freedom it takes concentric
+/// tones from $p$), whatever those functions are (two tones, three, a gradient). The cost of a
+/// direction is what that model leaves unexplained, each function taken as the mean over
+/// thin bands ([`TONE_BANDS`]) by backfitting; a picture whose tone edges are circles about
+/// $l$ and whose highlight is a circle about $h$ scores near zero there, and every direction
+/// off it cuts tones across bands. At most 16000 disk pixels are used, their luminance in
+/// sRGB codes; the spread and the undecided case are as in [`estimate_light`], and
+/// `inliers` is the share of the luminance's variance the model explains.
+pub fn estimate_tone_light(p: &Painting, disk: &Disk) -> Result<LightEstimate> {
+    let (normals, linear) = disk_samples(p, disk, 16000)?;
+    // In display codes, where the painter chose the tones.
+    let y: Vec<f64> = linear.iter().map(|&v| f64::from(crate::images::linear_to_srgb(v as f32))).collect();
+    let cost = |l: DVec3| band_residual(l, &normals, &y);
+    let coarse = front_directions(4000);
+    let mut scored: Vec<(DVec3, f64)> = coarse.par_iter().map(|&l| (l, cost(l))).collect();
+    let (best, _) = *scored.iter().min_by(|a, b| a.1.total_cmp(&b.1)).ok_or_else(|| Error::input("no light explains the sphere's tones"))?;
+    let fine = cap(best, 5f64.to_radians(), 600);
+    scored.extend(fine.par_iter().map(|&l| (l, cost(l))).collect::<Vec<_>>());
+    let (best, least) = *scored.iter().min_by(|a, b| a.1.total_cmp(&b.1)).expect("scored holds the coarse best");
+    let plausible: Vec<(DVec3, f64)> = scored.into_iter().filter(|(_, c)| *c <= AS_WELL * least).collect();
+    let widest = |d: DVec3| plausible.iter().map(|(l, _)| l.angle_between(d)).fold(0.0f64, f64::max);
+    let undecided = widest(best).to_degrees() > UNDECIDED_DEG;
+    let direction = if undecided { key_light(&plausible, least) } else { best };
+    let mean = y.iter().sum::<f64>() / y.len() as f64;
+    let total = y.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>();
+    let inliers = if total > 0.0 { (1.0 - least / total).clamp(0.0, 1.0) } else { 1.0 };
+    Ok(LightEstimate { direction, spread_deg: widest(direction).to_degrees(), inliers, undecided })
+}
+
+/// Bands of a cosine in $[-1, 1]$ for [`estimate_tone_light`]: 0.0125 wide, so a tone edge
+/// of a 256-pixel disk crosses a band within a few pixels, and 16000 pixels put about 60 in
+/// each band the disk reaches.
+const TONE_BANDS: usize = 160;
+
+/// Backfitting sweeps of [`band_residual`]: the second settles what the first split
+/// between the terminator's bands and the highlight's; more change the cost by little.
+const SWEEPS: usize = 2;
+
+/// $\sum$ of squared residuals of $y \approx P(n \cdot l) + Q(n \cdot h)$ with $P, Q$
+/// piecewise constant over [`TONE_BANDS`] bands, fitted by backfitting (the view is the lit
+/// sphere's, $v = +z$).
+fn band_residual(l: DVec3, normals: &[DVec3], y: &[f64]) -> f64 {
+    let band = |c: f64| (((c + 1.0) * 0.5 * TONE_BANDS as f64) as usize).min(TONE_BANDS - 1);
+    let h = (l + DVec3::Z).normalize_or(DVec3::Z);
+    let bands: Vec<[usize; 2]> = normals.iter().map(|n| [band(n.dot(l)), band(n.dot(h))]).collect();
+    let mut parts = vec![[0.0f64; 2]; y.len()];
+    for _ in 0..SWEEPS {
+        for f in 0..2 {
+            let (mut sum, mut count) = ([0.0f64; TONE_BANDS], [0usize; TONE_BANDS]);
+            for ((b, part), &v) in bands.iter().zip(&parts).zip(y) {
+                sum[b[f]] += v - part[1 - f];
+                count[b[f]] += 1;
+            }
+            for (b, part) in bands.iter().zip(parts.iter_mut()) {
+                part[f] = sum[b[f]] / count[b[f]] as f64;
+            }
+        }
+    }
+    parts.iter().zip(y).map(|(part, &v)| (v - part.iter().sum::<f64>()).powi(2)).sum()
+}
+
 /// The disk's normals and luminances, off the rim (where normals are steep and edges mix
-/// with the background), on a grid of at most about 4000 pixels.
-fn disk_samples(p: &Painting, disk: &Disk) -> Result<(Vec<DVec3>, Vec<f64>)> {
+/// with the background), on a grid of at most about `most` pixels.
+fn disk_samples(p: &Painting, disk: &Disk, most: usize) -> Result<(Vec<DVec3>, Vec<f64>)> {
     let (mut normals, mut y) = (Vec::new(), Vec::new());
     let total = (std::f64::consts::PI * disk.r * disk.r) as usize;
-    let stride = ((total as f64 / 4000.0).sqrt().floor() as usize).max(1);
+    let stride = ((total as f64 / most as f64).sqrt().floor() as usize).max(1);
     for j in (0..p.height).step_by(stride) {
         for i in (0..p.width).step_by(stride) {
             let k = j * p.width + i;
