@@ -1,7 +1,9 @@
 //! Stylized lit spheres (`fit --lit-sphere --style auto|stylized`, issue 36): toon spheres
 //! (flat tones, a hard terminator, a hard highlight at the half vector) drawn here with known
-//! lights are read as drawn, keep their edges and find their light; smooth rendered spheres
-//! are read as physical; the bunny under a moved light still shows the toon's tones.
+//! lights are read as drawn, keep their edges and find their light; the thesis's cases (an
+//! outline, a highlight with coloured halos) keep what was drawn; smooth rendered spheres and
+//! a warm-to-cool painting are read as physical; the bunny under a moved light still shows
+//! the toon's tones.
 
 mod sphere_common;
 use sphere_common::sphere_picture;
@@ -18,10 +20,10 @@ use brdfpaint::render::{GpuScene, Renderer};
 use brdfpaint::scene::{Light, Scene};
 use glam::{DVec3, Vec3};
 
-/// A toon sphere: `tones` (sRGB, darkest first) above the thresholds `steps` of $n \cdot l$,
-/// white where $n \cdot h > 0.985$ (a highlight 10° in radius), on a white page; 4×4
-/// supersampled (the edges anti-aliased as a drawing program does), 8-bit PNG.
-fn toon_png(path: &Path, light: DVec3, tones: &[[f64; 3]], steps: &[f64]) {
+/// A sphere drawn by `shade` (sRGB from the normal, the unit light and the half vector), on
+/// a white page, 256² with a radius of 110; 4×4 supersampled (the edges anti-aliased as a
+/// drawing program does), 8-bit PNG.
+fn drawn_png(path: &Path, light: DVec3, shade: impl Fn(DVec3, DVec3, DVec3) -> [f64; 3]) {
     const SIZE: u32 = 256;
     const SUB: u32 = 4;
     let (c, r) = (128.0, 110.0);
@@ -34,13 +36,7 @@ fn toon_png(path: &Path, light: DVec3, tones: &[[f64; 3]], steps: &[f64]) {
                 let x = (i as f64 + (si as f64 + 0.5) / SUB as f64 - c) / r;
                 let y = -(j as f64 + (sj as f64 + 0.5) / SUB as f64 - c) / r;
                 let d = x * x + y * y;
-                let srgb = if d >= 1.0 {
-                    [1.0; 3]
-                } else {
-                    let n = DVec3::new(x, y, (1.0 - d).sqrt());
-                    let tone = steps.iter().filter(|&&s| n.dot(l) > s).count();
-                    if n.dot(h) > 0.985 { [1.0; 3] } else { tones[tone] }
-                };
+                let srgb = if d >= 1.0 { [1.0; 3] } else { shade(DVec3::new(x, y, (1.0 - d).sqrt()), l, h) };
                 for k in 0..3 {
                     sum[k] += srgb_to_linear(srgb[k] as f32) as f64;
                 }
@@ -49,6 +45,15 @@ fn toon_png(path: &Path, light: DVec3, tones: &[[f64; 3]], steps: &[f64]) {
         image::Rgb(sum.map(|s| (linear_to_srgb((s / (SUB * SUB) as f64) as f32) * 255.0).round() as u8))
     });
     image.save(path).unwrap();
+}
+
+/// A toon sphere: `tones` (sRGB, darkest first) above the thresholds `steps` of $n \cdot l$,
+/// white where $n \cdot h > 0.985$ (a highlight 10° in radius).
+fn toon_png(path: &Path, light: DVec3, tones: &[[f64; 3]], steps: &[f64]) {
+    drawn_png(path, light, |n, l, h| {
+        let tone = steps.iter().filter(|&&s| n.dot(l) > s).count();
+        if n.dot(h) > 0.985 { [1.0; 3] } else { tones[tone] }
+    });
 }
 
 /// sRGB luminance of linear RGB.
@@ -118,8 +123,8 @@ fn toon_spheres_are_read_as_drawn_with_their_edges_and_light() {
     }
 }
 
-/// Smooth rendered spheres (the analytic suite, 8-bit code values as PNG would keep them)
-/// are read as physical by `auto`; the same picture asked `stylized` is.
+/// Smooth rendered spheres (the analytic suite, 16-bit PNG) and a warm-to-cool painting are
+/// read as physical by `auto`; a picture asked `stylized` is read as drawn.
 #[test]
 fn smooth_spheres_are_read_as_physical() {
     let dir = tempfile::tempdir().unwrap();
@@ -130,6 +135,14 @@ fn smooth_spheres_are_read_as_physical() {
         let tones = litsphere::Picture::read(&path, 512).map(|p| litsphere::style::tones(&p.painting, &p.disk)).unwrap();
         assert!(!tones.stylized(), "{}: {tones:?}", model.name());
     }
+    // The thesis's warm-to-cool (Gooch) shading: smooth, so physical too.
+    let gooch = dir.path().join("gooch.png");
+    drawn_png(&gooch, DVec3::new(-0.5, 0.5, 0.7), |n, l, _| {
+        let t = 0.5 * (1.0 + n.dot(l));
+        [0.2 + 0.7 * t, 0.25 + 0.45 * t, 0.75 - 0.45 * t]
+    });
+    let tones = litsphere::Picture::read(&gooch, 512).map(|p| litsphere::style::tones(&p.painting, &p.disk)).unwrap();
+    assert!(!tones.stylized(), "gooch: {tones:?}");
     let path = dir.path().join("smooth0.png");
     let asked = Ask { style: Style::Stylized, ..Ask::default() };
     let lit = litsphere::fit_in(&path, &asked, &Options::default(), None).unwrap();
@@ -219,4 +232,71 @@ fn the_blender_toon_matcap_is_read_as_drawn() {
     assert!(lit.stylization.stylized && lit.stylization.tones.count == 3, "{:?}", lit.stylization);
     assert!(ratio >= 0.6, "strongest edges {ratio:.2} of the picture's");
     assert!(rms < 0.05, "RMS {rms}");
+}
+
+/// The mean sRGB colour of the fit re-rendered in its own scene and of the picture over the
+/// samples whose normal satisfies `inside`.
+fn mean_colours(lit: &LitSphere, inside: impl Fn(DVec3) -> bool) -> ([f64; 3], [f64; 3]) {
+    let p = &lit.view.painting;
+    let solved = &lit.fitted.solved;
+    let predicted = solved.prepared.predict(&solved.fit.tables, &solved.fit.map);
+    let (mut fit, mut picture, mut n) = ([0.0; 3], [0.0; 3], 0.0);
+    for (s, &(_, px)) in lit.fitted.samples.origin.iter().enumerate() {
+        let Some(normal) = lit.disk.normal(px % p.width, px / p.width, 1.0) else { continue };
+        if inside(normal) {
+            for c in 0..3 {
+                fit[c] += linear_to_srgb(predicted[s][c] as f32) as f64;
+                picture[c] += linear_to_srgb(p.pixels[px][c]) as f64;
+            }
+            n += 1.0;
+        }
+    }
+    (fit.map(|x| x / n), picture.map(|x| x / n))
+}
+
+/// The thesis's non-photorealistic cases (its figures): a toon sphere with a black outline,
+/// and a highlight with coloured halos (yellow, then green, then blue rings) on a grey body.
+/// Read as drawn, the rim stays dark (under 0.4 of the lit body in sRGB luminance: the
+/// offset mapping the fit keeps softens a black line to a dark one) and each ring keeps its
+/// colour, within 0.06 in sRGB per channel.
+#[test]
+fn an_outline_and_coloured_halos_are_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let light = DVec3::new(-0.35, 0.45, 0.82);
+    let outline = dir.path().join("outline.png");
+    drawn_png(&outline, light, |n, l, _| {
+        if n.z < 0.3 {
+            [0.02; 3]
+        } else if n.dot(l) > 0.3 {
+            [0.9, 0.5, 0.3]
+        } else {
+            [0.45, 0.2, 0.2]
+        }
+    });
+    let halos = dir.path().join("halos.png");
+    let rings = [(0.995, [1.0, 0.95, 0.2]), (0.98, [0.3, 0.85, 0.3]), (0.96, [0.25, 0.45, 0.95])];
+    drawn_png(&halos, light, |n, l, h| {
+        rings.iter().find(|(c, _)| n.dot(h) > *c).map_or_else(|| if n.dot(l) > 0.2 { [0.6; 3] } else { [0.3; 3] }, |(_, colour)| *colour)
+    });
+    let lit = litsphere::fit_in(&outline, &Ask::default(), &Options::default(), None).unwrap();
+    assert!(lit.stylization.stylized, "outline: {:?}", lit.stylization.tones);
+    let (rim, picture) = mean_colours(&lit, |n| n.z < 0.25);
+    let (body, _) = mean_colours(&lit, |n| (0.45..0.6).contains(&n.z) && n.dot(lit.light) > 0.4);
+    let y = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+    eprintln!("outline at the rim: fit {rim:.3?} against the lit body's {body:.3?}; picture {picture:.3?}");
+    assert!(y(rim) < 0.4 * y(body), "the outline is not kept: {rim:?} at the rim, {body:?} on the body");
+    let lit = litsphere::fit_in(&halos, &Ask::default(), &Options::default(), None).unwrap();
+    assert!(lit.stylization.stylized, "halos: {:?}", lit.stylization.tones);
+    let h = (lit.light + DVec3::Z).normalize();
+    let bounds: [f64; 4] = [1.0, 0.995, 0.98, 0.96];
+    for (k, (_, colour)) in rings.iter().enumerate() {
+        // The middle of each ring, off its edges by a third of its width.
+        let (hi, lo) = (bounds[k].acos(), bounds[k + 1].acos());
+        let (a, b) = (hi + (lo - hi) / 3.0, lo - (lo - hi) / 3.0);
+        let (fit, picture) = mean_colours(&lit, |n| (a..b).contains(&n.dot(h).clamp(-1.0, 1.0).acos()));
+        eprintln!("ring {k}: fit {fit:.3?}, picture {picture:.3?}, drawn {colour:?}");
+        for c in 0..3 {
+            assert!((fit[c] - picture[c]).abs() < 0.06, "ring {k}: fit {fit:?}, picture {picture:?}");
+        }
+    }
 }
