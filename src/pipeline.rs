@@ -53,7 +53,7 @@ pub struct Options {
     /// `auto` adds it to a uniform fit whose paintings show side or back light.
     pub difference: DifferenceChoice,
     /// A robust solve of the product ([`Prepared::solve_robust`]) instead of least squares:
-    /// `None` by default; a stylized lit sphere's ([`crate::litsphere::style::robust`]).
+    /// `None` by default; a stylized lit sphere asks for one.
     pub robust: Option<Robust>,
 }
 

@@ -323,8 +323,6 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
     Ok(())
 }
 
-/// A lit sphere or MatCap: find the disk, estimate the light (or take --light), fit, and
-/// write the material with its report and the scene it was fitted in.
 /// What `fit --lit-sphere` asks of one picture.
 fn lit_ask(args: &FitArgs) -> litsphere::Ask {
     litsphere::Ask {
@@ -341,6 +339,9 @@ fn lit_ask(args: &FitArgs) -> litsphere::Ask {
     }
 }
 
+/// A lit sphere or MatCap: find the disk, read it as shading or as drawn, estimate the light
+/// (or take --light), fit, and write the material with its report and the scene it was
+/// fitted in.
 fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
     let lit = litsphere::fit_in(image, &lit_ask(args), opts, Cache::user().as_ref())?;
     let how = match lit.outline {

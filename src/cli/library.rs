@@ -16,8 +16,8 @@ use brdfpaint::pipeline::Options;
 pub(super) const MAX_SIDE: usize = 256;
 
 /// Fits every picture of `inputs` into the library `out` as `ask` says (the light when
-/// given, the side each is fitted at, how each is read). Errors: the library could not be written, or a picture
-/// failed (each has had its line).
+/// given, the side each is fitted at, how each is read). Errors: the library could not be
+/// written, or a picture failed (each has had its line).
 pub(super) fn run(inputs: &Inputs, ask: litsphere::Ask, opts: &Options, out: &Path) -> Result<()> {
     library::check_output(out)?;
     for (dir, pictures, others) in &inputs.folders {
