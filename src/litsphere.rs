@@ -558,7 +558,8 @@ pub struct Stylization {
 }
 
 impl Stylization {
-    fn decide(asked: Style, picture: &Picture) -> Stylization {
+    /// How `picture` is read when `asked` ([`style::tones`] decides `auto`).
+    pub fn decide(asked: Style, picture: &Picture) -> Stylization {
         let tones = style::tones(&picture.painting, &picture.disk);
         let stylized = match asked {
             Style::Physical => false,
@@ -566,6 +567,28 @@ impl Stylization {
             Style::Auto => tones.stylized(),
         };
         Stylization { asked, stylized, tones }
+    }
+
+    /// The fit settings from the user's `base`: the lit-sphere rule ([`settings`]), or a
+    /// stylized fit's ([`style::settings`]; `res_given`, `smooth_given`: the user chose them).
+    pub fn settings(&self, base: &Settings, disk: &Disk, res_given: bool, smooth_given: bool) -> Settings {
+        match self.stylized {
+            false => settings(base),
+            true => style::settings(base, disk, res_given, smooth_given),
+        }
+    }
+
+    /// The robust solve of a stylized fit ([`style::robust`]); least squares otherwise.
+    pub fn robust(&self) -> Option<crate::factor::Robust> {
+        self.stylized.then(style::robust)
+    }
+
+    /// The key light of `picture`: from its shading, or from its tone edges when stylized.
+    pub fn estimate_light(&self, picture: &Picture) -> Result<LightEstimate> {
+        match self.stylized {
+            false => picture.estimate_light(),
+            true => estimate_tone_light(&picture.painting, &picture.disk),
+        }
     }
 
     /// The note that says how the picture was read.
@@ -591,18 +614,15 @@ pub fn fit_sized(path: &Path, light: Option<DVec3>, opts: &Options, cache: Optio
 pub fn fit_in(path: &Path, ask: &Ask, opts: &Options, cache: Option<&Cache>) -> Result<LitSphere> {
     let picture = Picture::read_in(path, ask.max_side, ask.disk)?;
     let stylization = Stylization::decide(ask.style, &picture);
-    let opts = &match stylization.stylized {
-        false => Options { settings: settings(&opts.settings), ..opts.clone() },
-        true => Options {
-            settings: style::settings(&opts.settings, &picture.disk, ask.res_given, ask.smooth_given),
-            robust: Some(style::robust()),
-            ..opts.clone()
-        },
+    let opts = &Options {
+        settings: stylization.settings(&opts.settings, &picture.disk, ask.res_given, ask.smooth_given),
+        robust: stylization.robust(),
+        ..opts.clone()
     };
     let (light, estimate) = match ask.light {
         Some(l) => (direction(l).map_err(|e| Error::input(format!("--{e}")))?, None),
         None => {
-            let e = if stylization.stylized { estimate_tone_light(&picture.painting, &picture.disk)? } else { picture.estimate_light()? };
+            let e = stylization.estimate_light(&picture)?;
             (e.direction, Some(e))
         }
     };

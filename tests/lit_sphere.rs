@@ -312,3 +312,28 @@ fn dragging_the_light_of_a_live_lit_sphere_refits_as_fit_with_that_light() {
     drop(sphere);
     assert_eq!(render_threads(), 0, "the render thread outlived its session");
 }
+
+/// A toon picture opened live (the viewer's lit-sphere session) is read as `fit` reads it by
+/// default: stylized, lit from its tone edges, and the settled live fit is `fit`'s (the
+/// robust solve of the stylized settings).
+#[test]
+fn a_live_toon_lit_sphere_is_read_as_drawn_as_fit_reads_it() {
+    use brdfpaint::factor::{Mapping, Settings};
+    use brdfpaint::litsphere;
+    use brdfpaint::live::{PaintSession, SphereSession};
+    use brdfpaint::pipeline::Options;
+    let path = Path::new(MATCAPS).join("toon.exr");
+    let ctx = HeadlessContext::new().unwrap();
+    let mut renderer = Renderer::new(ctx.gl()).unwrap();
+    let sphere = SphereSession::open(&path, None).unwrap();
+    assert!(sphere.stylization.stylized, "{:?}", sphere.stylization);
+    let mut session = PaintSession::new(Settings::default(), Mapping::Auto);
+    sphere.start(&mut renderer, &mut session).unwrap();
+    session.settle().unwrap();
+    let cli = litsphere::fit(&path, None, &Options::default(), None).unwrap();
+    ctx.make_current().unwrap();
+    assert!(cli.stylization.stylized);
+    assert_eq!(Some(sphere.light()), cli.estimate.map(|e| e.direction));
+    let d = table_difference(&session.fit().unwrap().tables, &cli.fitted.solved.fit.tables);
+    assert!(d < 1e-9, "live tables differ from fit's by {d:e}");
+}

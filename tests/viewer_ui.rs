@@ -401,6 +401,44 @@ fn a_dropped_matcap_is_a_lit_sphere_with_the_estimated_light_whose_sun_drags_the
     assert!(*refitted != fitted, "the fit moved with the light");
 }
 
+/// The disk a lit sphere was read with is drawn over it: dragging its outline inwards reads
+/// the picture again with the smaller disk (as `fit --disk` would), and dragging its centre
+/// cross moves it; the status gives the `--disk` that says the same.
+#[test]
+fn the_disk_of_a_lit_sphere_drags_to_a_new_radius_and_centre() {
+    use brdfpaint::litsphere::{Picture, MAX_SIDE};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/matcaps/blender_cc0/exr/clay_studio.exr");
+    let mut h = Harness::new(Mode::View);
+    h.frame_with_drops(vec![], vec![path.clone()]);
+    let picture = Picture::read(&path, MAX_SIDE).unwrap();
+    let view = h.studio.layout.view_rect.unwrap();
+    let scale = (view.x as f32 - 4.0 - PANEL_WIDTH) / picture.painting.width as f32;
+    let d = picture.disk;
+    let centre = Pos2::new(PANEL_WIDTH + d.cx as f32 * scale, d.cy as f32 * scale);
+    let radius = d.r as f32 * scale;
+    // Grab the outline on the side away from the sun.
+    let e = h.studio.lit_sphere().unwrap().light();
+    let away = -egui::vec2(e.x as f32, -e.y as f32).normalized();
+    let away = if away.is_finite() { away } else { egui::vec2(1.0, 0.0) };
+    h.drag(centre + away * radius, centre + away * (radius - 30.0));
+    h.frame(vec![]);
+    let smaller = h.studio.lit_sphere().expect("still a lit sphere").picture.disk;
+    let want = d.r - 30.0 / scale as f64;
+    assert!((smaller.r - want).abs() < 1.5, "radius {} after the drag, {want} asked", smaller.r);
+    assert!((smaller.cx - d.cx).abs() < 0.01 && (smaller.cy - d.cy).abs() < 0.01, "the centre stays: {smaller:?}");
+    assert!(h.studio.status().contains("as dragged (--disk"), "{}", h.studio.status());
+    eprintln!("light {e}; disk {d:?} -> {smaller:?}");
+    // The centre cross moves it (the sun is elsewhere unless the light is at the viewer).
+    if e.truncate().length() * radius as f64 > 20.0 {
+        h.drag(centre, centre + egui::vec2(-10.0, 6.0));
+        h.frame(vec![]);
+        let moved = h.studio.lit_sphere().unwrap().picture.disk;
+        assert!((moved.cx - (d.cx - 10.0 / scale as f64)).abs() < 1.0 && (moved.cy - (d.cy + 6.0 / scale as f64)).abs() < 1.0, "{moved:?}");
+        assert!((moved.r - smaller.r).abs() < 0.01, "{moved:?}");
+        eprintln!("moved to {moved:?}");
+    }
+}
+
 #[test]
 fn a_dropped_painting_of_the_sphere_view_asks_whether_it_is_a_lit_sphere() {
     let mut h = Harness::new(Mode::Paint);

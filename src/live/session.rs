@@ -31,7 +31,7 @@ use std::time::Instant;
 use super::full::{self, FullFit, FullFits, Landed, Stamp};
 use super::view::PaintView;
 use crate::error::{Error, Result};
-use crate::factor::{self, Errors, Fit, LogMap, Mapping, Pattern, Prepared, Settings};
+use crate::factor::{self, Errors, Fit, LogMap, Mapping, Pattern, Prepared, Robust, Settings};
 use crate::material::{Material, Provenance};
 
 /// The pattern of the given slots of the given views, views in order, slots in order: the
@@ -137,6 +137,9 @@ pub struct PaintSession {
     epoch: u64,
     /// `brdfpaint fit`'s fit of the paintings, on a worker once the strokes pause.
     full: FullFits,
+    /// A robust solve instead of least squares (a stylized lit sphere's), its light prior
+    /// the prepared settings'.
+    robust: Option<Robust>,
 }
 
 impl PaintSession {
@@ -153,7 +156,23 @@ impl PaintSession {
             chosen: None,
             epoch: 0,
             full: FullFits::default(),
+            robust: None,
         }
+    }
+
+    /// Solves robustly with `robust` from now on (`None`: least squares), as
+    /// `pipeline::Options::robust` has `brdfpaint fit` solve.
+    pub fn set_robust(&mut self, robust: Option<Robust>) {
+        if robust != self.robust {
+            self.robust = robust;
+            self.chosen = None;
+            self.epoch += 1;
+        }
+    }
+
+    /// The robust settings for a solve of `prepared` ([`PaintSession::set_robust`]).
+    fn robust_for(&self, prepared: &Prepared) -> Option<Robust> {
+        self.robust.clone().map(|r| Robust { light_prior: prepared.settings().light_prior, ..r })
     }
 
     pub fn settings(&self) -> &Settings {
@@ -448,7 +467,10 @@ impl PaintSession {
         }
         let t1 = Instant::now();
         let map = self.live_map(&system.prepared, &values, max)?;
-        let tables = system.prepared.solve_tables(&values, &map)?;
+        let tables = match self.robust_for(&system.prepared) {
+            Some(r) => system.prepared.solve_robust_tables(&values, &map, &r)?,
+            None => system.prepared.solve_tables(&values, &map)?,
+        };
         let fit = Fit { tables, map, errors: Errors::default(), tried: Vec::new() };
         let views: Vec<&PaintView> = self.views.iter().collect();
         let solve_s = t1.elapsed().as_secs_f64();
@@ -482,7 +504,10 @@ impl PaintSession {
         let views: Vec<&PaintView> = self.views.iter().collect();
         let values = painted_values(&views, &system.masks);
         let t1 = Instant::now();
-        let fit = system.prepared.solve(&values, self.mapping)?;
+        let fit = match self.robust_for(&system.prepared) {
+            Some(r) => system.prepared.solve_robust(&values, self.mapping, &r)?,
+            None => system.prepared.solve(&values, self.mapping)?,
+        };
         let solve_s = t1.elapsed().as_secs_f64();
         let material =
             Material::from_fit(system.prepared.settings(), &fit, provenance(&views, &system.prepared, Some(fit.errors), solve_s))?;

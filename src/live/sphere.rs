@@ -28,7 +28,8 @@ use super::session::PaintSession;
 use super::view::PaintView;
 use crate::error::{Error, Result};
 use crate::gl::HeadlessContext;
-use crate::litsphere::{self, LightEstimate, Picture};
+use crate::factor::{Mapping, Settings};
+use crate::litsphere::{self, LightEstimate, Picture, Stylization};
 use crate::render::Renderer;
 
 /// What the session's view of a lit sphere is called.
@@ -40,6 +41,8 @@ pub struct SphereSession {
     pub picture: Picture,
     /// The light estimated from the picture's shading (`None` when it was given).
     pub estimate: Option<LightEstimate>,
+    /// Physical or stylized, as `fit --lit-sphere --style auto` decides.
+    pub stylization: Stylization,
     /// The light of the view in the paint session (towards the light, picture frame: x
     /// right, y up, z to the viewer).
     light: DVec3,
@@ -116,14 +119,29 @@ impl SphereSession {
 
     /// [`SphereSession::open`] of a picture already read.
     pub fn from_picture(picture: Picture, light: Option<DVec3>) -> Result<SphereSession> {
+        // Read as `fit --lit-sphere` reads it by default (`--style auto`).
+        let stylization = Stylization::decide(litsphere::Style::Auto, &picture);
         let (light, estimate) = match light {
             Some(l) => (litsphere::direction(l)?, None),
             None => {
-                let e = picture.estimate_light()?;
+                let e = stylization.estimate_light(&picture)?;
                 (e.direction, Some(e))
             }
         };
-        Ok(SphereSession { picture, estimate, light, wanted: None, lighting: None, lighting_tried: false, rendering: None, ready: None })
+        Ok(SphereSession { picture, estimate, stylization, light, wanted: None, lighting: None, lighting_tried: false, rendering: None, ready: None })
+    }
+
+    /// The fit settings of this picture from the user's `base` ([`Stylization::settings`]).
+    pub fn settings(&self, base: &Settings) -> Settings {
+        self.stylization.settings(base, &self.picture.disk, false, false)
+    }
+
+    /// A paint session for this picture: `base`'s settings as [`SphereSession::settings`]
+    /// makes them, the robust solve of a stylized picture, and `mapping`.
+    pub fn paint_session(&self, base: &Settings, mapping: Mapping) -> PaintSession {
+        let mut session = PaintSession::new(self.settings(base), mapping);
+        session.set_robust(self.stylization.robust());
+        session
     }
 
     /// The light the fit is for, or will be once the light asked for is applied: what a
@@ -151,11 +169,11 @@ impl SphereSession {
     }
 
     /// Starts `session` over with this picture's view as its only view (the session's
-    /// settings, under the lit-sphere rule [`litsphere::settings`], and its mapping); the
-    /// view's index.
+    /// settings and mapping, as [`SphereSession::paint_session`] makes them); the view's
+    /// index.
     pub fn start(&self, renderer: &mut Renderer, session: &mut PaintSession) -> Result<usize> {
         let view = self.view(renderer, self.light)?;
-        *session = PaintSession::new(litsphere::settings(session.settings()), session.mapping());
+        *session = self.paint_session(session.settings(), session.mapping());
         Ok(session.add_view(view))
     }
 

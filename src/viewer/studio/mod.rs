@@ -400,6 +400,7 @@ impl Studio {
             self.tables.ui(ui, material)
         });
         egui::CentralPanel::no_frame().show(ui, |ui| self.central(ui));
+        self.apply_dropped_disk(renderer);
     }
 
     fn to_pixels(&self, r: Rect) -> WindowRect {

@@ -2,6 +2,9 @@
 //! the panel's "Lit sphere" section) becomes the one view to paint, fitted as `brdfpaint fit
 //! --lit-sphere` fits it ([`crate::live::sphere`]). The estimated light is drawn as a sun
 //! over the sphere; dragging the sun moves the light, and the fit follows in the background.
+//! The disk the picture was read with is drawn too: dragging its outline changes its radius,
+//! dragging its centre cross moves it (the sun wins where they meet), and on release the
+//! picture is read again with that disk, as `fit --disk` would read it.
 //! The 3D view is lit from the same direction (in its camera's frame), so the model shows
 //! the material as the picture shows it.
 
@@ -15,9 +18,9 @@ use super::easel::Easel;
 use super::{short, Mode, Studio};
 use crate::error::Result;
 use crate::images::Painting;
-use crate::litsphere::{self, Picture};
+use crate::litsphere::{self, Disk, Picture};
 use crate::live::sphere::VIEW_NAME;
-use crate::live::{check_painting_size, PaintSession, SphereSession};
+use crate::live::{check_painting_size, SphereSession};
 use crate::render::Renderer;
 
 /// Pointer distance within which a press grabs the sun, points.
@@ -35,6 +38,44 @@ pub(super) struct Sphere {
     path: String,
     /// The sun is being dragged.
     dragging: bool,
+    /// The disk's outline or centre is being dragged.
+    circle: Option<CircleDrag>,
+    /// A disk dragged to and released, to read the picture with (in its pixels as fitted).
+    dropped_disk: Option<Disk>,
+}
+
+/// What of the disk a drag holds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Handle {
+    /// The centre cross: the disk moves.
+    Centre,
+    /// The outline: the radius changes.
+    Rim,
+}
+
+/// A drag of the disk: what it holds, the disk and pointer it started from, and the disk
+/// it has reached (drawn while dragging).
+#[derive(Clone, Copy, Debug)]
+struct CircleDrag {
+    handle: Handle,
+    start: Disk,
+    press: Pos2,
+    now: Disk,
+}
+
+impl CircleDrag {
+    /// The disk with the pointer at `p` (`scale`: points per picture pixel).
+    fn follow(&mut self, p: Pos2, centre: Pos2, scale: f32) {
+        let s = f64::from(scale.max(1e-6));
+        self.now = match self.handle {
+            Handle::Centre => {
+                let d = p - self.press;
+                Disk { cx: self.start.cx + f64::from(d.x) / s, cy: self.start.cy + f64::from(d.y) / s, ..self.start }
+            }
+            // A sphere is found only with a radius of 4 pixels or more.
+            Handle::Rim => Disk { r: (f64::from(p.distance(centre)) / s).max(4.0), ..self.start },
+        };
+    }
 }
 
 /// What a dropped picture is.
@@ -125,7 +166,7 @@ impl Studio {
     pub fn start_lit_sphere(&mut self, renderer: &mut Renderer, sphere: SphereSession) -> Result<()> {
         let view = sphere.view(renderer, sphere.light())?;
         let e = &mut self.easel;
-        e.session = PaintSession::new(litsphere::settings(&self.fit.settings()), e.session.mapping());
+        e.session = sphere.paint_session(&self.fit.settings(), e.session.mapping());
         // `fit` reads a lit sphere through its own path, not as a scene's painting.
         e.session.set_full_fit(false);
         e.view_names.clear();
@@ -164,6 +205,7 @@ impl Studio {
     fn close_sphere(&mut self, renderer: &mut Renderer) {
         self.sphere.session = None;
         self.sphere.dragging = false;
+        self.sphere.circle = None;
         self.easel.scene_mode = false;
         let model = self.easel.paint_model.clone();
         let restarted = self.easel.restart(renderer, model, crate::scene::preset_names()[0]);
@@ -176,10 +218,9 @@ impl Studio {
     /// The settings the fit controls ask for, under the lit-sphere rule while one is open.
     pub(super) fn fit_settings(&self) -> crate::factor::Settings {
         let s = self.fit.settings();
-        if self.sphere.session.is_some() {
-            litsphere::settings(&s)
-        } else {
-            s
+        match &self.sphere.session {
+            Some(sphere) => sphere.settings(&s),
+            None => s,
         }
     }
 
@@ -245,6 +286,7 @@ impl Studio {
         if pressed && origin.is_some_and(|o| o.distance(sun) <= GRAB) {
             self.sphere.dragging = true;
         }
+        let circle = self.disk_canvas(ui, rect, scale, (pressed, down, origin, pointer));
         if self.sphere.dragging && !down {
             self.sphere.dragging = false;
         }
@@ -278,7 +320,68 @@ impl Studio {
             // Behind the sphere: a hollow sun.
             painter.circle_stroke(sun, 6.0, Stroke::new(2.0, colour));
         }
-        self.sphere.dragging
+        self.sphere.dragging || circle
+    }
+
+    /// The disk's outline and centre cross on the canvas, and their drag (after the sun's:
+    /// a press that grabbed the sun grabs nothing else). `true` while the disk is dragged.
+    fn disk_canvas(&mut self, ui: &egui::Ui, rect: Rect, scale: f32, (pressed, down, origin, pointer): (bool, bool, Option<Pos2>, Option<Pos2>)) -> bool {
+        let Some(s) = self.sphere.session.as_ref() else { return false };
+        let d = s.picture.disk;
+        let at = |d: &Disk| (rect.min + Vec2::new(d.cx as f32, d.cy as f32) * scale, d.r as f32 * scale);
+        let (centre, radius) = at(&d);
+        if pressed && !self.sphere.dragging {
+            if let Some(o) = origin {
+                let handle = if o.distance(centre) <= GRAB {
+                    Some(Handle::Centre)
+                } else if (o.distance(centre) - radius).abs() <= GRAB * 0.5 {
+                    Some(Handle::Rim)
+                } else {
+                    None
+                };
+                self.sphere.circle = handle.map(|handle| CircleDrag { handle, start: d, press: o, now: d });
+            }
+        }
+        if let (Some(drag), Some(p)) = (self.sphere.circle.as_mut(), pointer) {
+            drag.follow(p, centre, scale);
+        }
+        if !down {
+            if let Some(drag) = self.sphere.circle.take() {
+                if drag.now != drag.start {
+                    self.sphere.dropped_disk = Some(drag.now);
+                }
+            }
+        }
+        let shown = self.sphere.circle.map_or(d, |c| c.now);
+        let (c, r) = at(&shown);
+        let painter = ui.painter_at(rect);
+        let hot = self.sphere.circle.is_some();
+        let colour = if hot { Color32::from_rgb(150, 230, 255) } else { Color32::from_rgba_unmultiplied(120, 200, 255, 170) };
+        painter.circle_stroke(c, r, Stroke::new(3.0, Color32::from_black_alpha(100)));
+        painter.circle_stroke(c, r, Stroke::new(1.2, colour));
+        for arm in [Vec2::X, Vec2::Y] {
+            painter.line_segment([c - arm * 9.0, c + arm * 9.0], Stroke::new(3.0, Color32::from_black_alpha(100)));
+            painter.line_segment([c - arm * 9.0, c + arm * 9.0], Stroke::new(1.5, colour));
+        }
+        hot
+    }
+
+    /// Reads the picture again with the disk dragged to, if one was released: a new session
+    /// (its light estimated again), as `fit --lit-sphere --disk` reads it. A disk the
+    /// picture cannot take is one line in the status, and the session stays.
+    pub(super) fn apply_dropped_disk(&mut self, renderer: &mut Renderer) {
+        let Some(disk) = self.sphere.dropped_disk.take() else { return };
+        let Some(s) = self.sphere.session.as_ref() else { return };
+        let (name, f) = (s.picture.name.clone(), s.picture.scale);
+        // In the file's pixels, as --disk gives it.
+        let given = Disk { cx: disk.cx * f, cy: disk.cy * f, r: disk.r * f };
+        let opened = Picture::read_in(Path::new(&name), litsphere::MAX_SIDE, Some(given))
+            .and_then(|p| SphereSession::from_picture(p, None))
+            .and_then(|session| self.start_lit_sphere(renderer, session));
+        match opened {
+            Ok(()) => self.note(format!("{}: disk at ({:.1}, {:.1}), radius {:.1}, as dragged (--disk {:.1},{:.1},{:.1})", short(&name), given.cx, given.cy, given.r, given.cx, given.cy, given.r)),
+            Err(e) => self.status.fail(e.to_string()),
+        }
     }
 
     /// The panel's "Lit sphere" section: the open entry, and for an open lit sphere its
@@ -307,7 +410,7 @@ impl Studio {
                     }
                 }
                 let refitting = s.waiting() || self.easel.session.preparing();
-                ui.small(if refitting { "refitting for the new light..." } else { "Drag the sun on the sphere to move the light." });
+                ui.small(if refitting { "refitting for the new light..." } else { "Drag the sun on the sphere to move the light; the outline or its centre cross to correct the disk." });
                 let mut behind = l.z < 0.0;
                 let estimate = s.estimate.map(|e| e.direction).filter(|&e| e != l);
                 let mut next = None;
