@@ -74,6 +74,12 @@ pub struct Robust {
     pub inverted_margin: f64,
     /// The bound $K$ of [`super::bound::bound_log`].
     pub bound: f64,
+    /// Every 1D factor of a direction holds its nearest reached value where no sample
+    /// reaches it (a light further behind the surface, a half vector further from the normal
+    /// than the paintings show), instead of the Laplacian's straight-line run in log space,
+    /// which turns a toon's tones into colours it never had: for fits without the light
+    /// prior, which would shape the light factor there.
+    pub hold_unseen: bool,
 }
 
 impl Default for Robust {
@@ -88,6 +94,7 @@ impl Default for Robust {
             light_prior: Some(0.02),
             inverted_margin: 0.15,
             bound: BOUND,
+            hold_unseen: false,
         }
     }
 }
@@ -219,8 +226,32 @@ impl Prepared {
             }
             y = solve(&target);
         }
+        if robust.hold_unseen {
+            hold_unseen(&mut y, settings, design);
+        }
         bound_log(&mut y, settings, design, map, max, robust.bound);
         y
+    }
+}
+
+/// Every 1D direction factor's nodes no sample reaches (data weight under 1, as
+/// [`bound_log`] counts them) take the value of the nearest reached node
+/// ([`Robust::hold_unseen`]).
+fn hold_unseen(y: &mut Mat<f64>, settings: &super::Settings, design: &super::system::Design) {
+    let weight = design.node_weights();
+    for (j, spec) in settings.factors.iter().enumerate() {
+        if spec.dim() != 1 || !matches!(spec.input, super::Input::Light | super::Input::Half | super::Input::View) {
+            continue;
+        }
+        let o = design.offsets[j];
+        let reached: Vec<usize> = (0..spec.len()).filter(|&i| weight[o + i] >= 1.0).collect();
+        let (Some(&first), Some(&last)) = (reached.first(), reached.last()) else { continue };
+        for i in (0..first).chain(last + 1..spec.len()) {
+            let from = if i < first { first } else { last };
+            for c in 0..3 {
+                y[(o + i, c)] = y[(o + from, c)];
+            }
+        }
     }
 }
 

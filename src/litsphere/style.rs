@@ -151,10 +151,12 @@ pub fn settings(base: &Settings, disk: &Disk, res_given: bool, smooth_given: boo
 
 /// The robust solve of a stylized fit: Huber's ψ to start (convex), then Tukey's biweight,
 /// which gives a tone edge painted off the light's circle no weight; no paint levels (the
-/// tones are the drawing, not a quantizer's steps to smooth over); and a looser bound
-/// ([`STYLIZED_BOUND`]).
+/// tones are the drawing, not a quantizer's steps to smooth over); a looser bound
+/// ([`STYLIZED_BOUND`]); and, with no light prior to shape them, tables that hold their
+/// last drawn tone where the picture shows nothing (a light further behind, a half vector
+/// further out).
 pub fn robust() -> Robust {
-    Robust { huber: 4, tukey: 6, max_levels: 0, light_prior: None, bound: STYLIZED_BOUND, ..Robust::default() }
+    Robust { huber: 4, tukey: 6, max_levels: 0, light_prior: None, bound: STYLIZED_BOUND, hold_unseen: true, ..Robust::default() }
 }
 
 /// The bound of a stylized fit's product over light and view directions the picture does
