@@ -128,12 +128,20 @@ pub fn estimate_light(p: &Painting, disk: &Disk) -> Result<LightEstimate> {
             (best, cost) = (b, c);
         }
     }
+    let inliers = weight.iter().sum::<f64>() / weight.len() as f64;
+    Ok(settle(scored, best, cost, inliers))
+}
+
+/// The estimate from every direction `scored` (with its cost; `best` the least, `cost`
+/// its cost): the directions that explain the picture [`AS_WELL`] give the spread, and
+/// when they are over [`UNDECIDED_DEG`] apart the picture cannot decide and the direction
+/// is the plausible key light among them ([`key_light`]).
+fn settle(scored: Vec<(DVec3, f64)>, best: DVec3, cost: f64, inliers: f64) -> LightEstimate {
     let plausible: Vec<(DVec3, f64)> = scored.into_iter().filter(|(_, c)| *c <= AS_WELL * cost).collect();
     let widest = |d: DVec3| plausible.iter().map(|(l, _)| l.angle_between(d)).fold(0.0f64, f64::max);
     let undecided = widest(best).to_degrees() > UNDECIDED_DEG;
     let direction = if undecided { key_light(&plausible, cost) } else { best };
-    let inliers = weight.iter().sum::<f64>() / weight.len() as f64;
-    Ok(LightEstimate { direction, spread_deg: widest(direction).to_degrees(), inliers, undecided })
+    LightEstimate { direction, spread_deg: widest(direction).to_degrees(), inliers, undecided }
 }
 
 /// The key light of a stylized picture: the direction under which its luminance is what
@@ -154,18 +162,15 @@ pub fn estimate_tone_light(p: &Painting, disk: &Disk) -> Result<LightEstimate> {
     let cost = |l: DVec3| band_residual(l, &normals, &y);
     let coarse = front_directions(4000);
     let mut scored: Vec<(DVec3, f64)> = coarse.par_iter().map(|&l| (l, cost(l))).collect();
-    let (best, _) = *scored.iter().min_by(|a, b| a.1.total_cmp(&b.1)).ok_or_else(|| Error::input("no light explains the sphere's tones"))?;
-    let fine = cap(best, 5f64.to_radians(), 600);
+    let least = |scored: &[(DVec3, f64)]| scored.iter().copied().min_by(|a, b| a.1.total_cmp(&b.1)).ok_or_else(|| Error::input("no light explains the sphere's tones"));
+    let (coarse_best, _) = least(&scored)?;
+    let fine = cap(coarse_best, 5f64.to_radians(), 600);
     scored.extend(fine.par_iter().map(|&l| (l, cost(l))).collect::<Vec<_>>());
-    let (best, least) = *scored.iter().min_by(|a, b| a.1.total_cmp(&b.1)).expect("scored holds the coarse best");
-    let plausible: Vec<(DVec3, f64)> = scored.into_iter().filter(|(_, c)| *c <= AS_WELL * least).collect();
-    let widest = |d: DVec3| plausible.iter().map(|(l, _)| l.angle_between(d)).fold(0.0f64, f64::max);
-    let undecided = widest(best).to_degrees() > UNDECIDED_DEG;
-    let direction = if undecided { key_light(&plausible, least) } else { best };
+    let (best, residual) = least(&scored)?;
     let mean = y.iter().sum::<f64>() / y.len() as f64;
     let total = y.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>();
-    let inliers = if total > 0.0 { (1.0 - least / total).clamp(0.0, 1.0) } else { 1.0 };
-    Ok(LightEstimate { direction, spread_deg: widest(direction).to_degrees(), inliers, undecided })
+    let inliers = if total > 0.0 { (1.0 - residual / total).clamp(0.0, 1.0) } else { 1.0 };
+    Ok(settle(scored, best, residual, inliers))
 }
 
 /// Bands of a cosine in $[-1, 1]$ for [`estimate_tone_light`]: 0.0125 wide, so a tone edge
