@@ -127,5 +127,5 @@ void main() {
         sum += term_product(q) * env_radiance(lw, lod) / density;
     }
     vec3 key = term_product(s) * u_light_rgb * s.falloff;
-    o_color = vec4((sum + u_key * key) * term_coefficient(s), 1.0);
+    o_color = vec4(term_detail(s, (sum + u_key * key) * term_coefficient(s)), 1.0);
 }

@@ -9,5 +9,5 @@ void main() {
     Surface s = surface();
     vec3 f = term_product(s) * term_coefficient(s);
     // S(l, v) is BRDF x cos(theta_l) already; the light scales it.
-    o_color = vec4(f * u_light_rgb * s.falloff, 1.0);
+    o_color = vec4(term_detail(s, f * u_light_rgb * s.falloff), 1.0);
 }

@@ -10,11 +10,13 @@
 //   param.glsl's codes (INPUT_LIGHT, PARAM_RADIUS, DOMAIN_SPHERE, MAP_OFFSET, ...), the one
 //   place they are defined; F<k>_DIM 1 or 2; F<k>_WARP the node warp of a radius axis (a
 //   float literal, 1.0 for none); HAS_COEF 0 or 1; HAS_BASE 0 or 1; BASE_LOBE 0..6 (the
-//   base lobe's family).
+//   base lobe's family); HAS_DETAIL 0 or 1 (the painting's detail, term_detail) and
+//   DETAIL_GAIN (a float literal, Detail::GAIN).
 // Uniforms: u_factor<k> (sampler), u_res<k> (nodes per axis), u_map_a (per-channel a),
 //   u_coef (sampler) and u_coef_size (texels per axis); with a base u_base_ambient,
 //   u_base_diffuse, u_base_specular, u_base_fresnel (per channel) and u_base_alpha (the
-//   lobe's width), the lobe's family in BASE_LOBE.
+//   lobe's width), the lobe's family in BASE_LOBE; with detail u_detail (sampler),
+//   u_detail_floor and the camera's right and up in world space, u_view_right and u_view_up.
 
 uniform sampler2D u_factor0;
 uniform sampler2D u_factor1;
@@ -151,5 +153,29 @@ vec3 term_coefficient(Surface s) {
     return texture(u_coef, node_to_texel(clamp(s.uv, 0.0, 1.0), u_coef_size)).rgb;
 #else
     return vec3(1.0);
+#endif
+}
+
+#if HAS_DETAIL
+uniform sampler2D u_detail;
+uniform float u_detail_floor;
+uniform vec3 u_view_right;
+uniform vec3 u_view_up;
+#endif
+
+// A term's output `value` with the painting's detail (src/material/detail.rs): the shading
+// normal in view space reads d from a square texture with the unit disk inscribed, as a
+// MatCap is read, clamped to the disk (texel centres, row 0 at the top, y = 1), and the value
+// becomes value min(d, DETAIL_GAIN) + floor (d - 1), the floor's part added in the first
+// term's pass only (u_detail_floor is 0 in the others). The value as it is without detail.
+vec3 term_detail(Surface s, vec3 value) {
+#if HAS_DETAIL
+    vec2 c = vec2(dot(s.n, u_view_right), dot(s.n, u_view_up));
+    float r = length(c);
+    if (r > 1.0) c /= r;
+    vec3 d = texture(u_detail, vec2(0.5 + 0.5 * c.x, 0.5 - 0.5 * c.y)).rgb;
+    return max(value * min(d, vec3(DETAIL_GAIN)) + u_detail_floor * (d - 1.0), 0.0);
+#else
+    return value;
 #endif
 }

@@ -46,6 +46,7 @@ pub mod edges;
 mod light;
 mod segment;
 pub mod style;
+pub mod texture;
 
 pub use light::{estimate_light, estimate_tone_light, LightEstimate, KEY, MIN_LIGHT_Z, UNDECIDED_DEG};
 pub use style::Style;
@@ -541,11 +542,13 @@ pub struct Ask {
     /// The user chose the tables' resolution or their smoothing: a stylized fit keeps it.
     pub res_given: bool,
     pub smooth_given: bool,
+    /// Keep the painting's detail over the material (`--texture keep`, [`texture`]).
+    pub keep_texture: bool,
 }
 
 impl Default for Ask {
     fn default() -> Self {
-        Ask { light: None, disk: None, max_side: MAX_SIDE, style: Style::Auto, res_given: false, smooth_given: false }
+        Ask { light: None, disk: None, max_side: MAX_SIDE, style: Style::Auto, res_given: false, smooth_given: false, keep_texture: false }
     }
 }
 
@@ -637,6 +640,9 @@ pub fn fit_in(path: &Path, ask: &Ask, opts: &Options, cache: Option<&Cache>) -> 
     // with the material's provenance.
     let undecided = estimate.filter(|e| e.undecided).map(|e| Note::LightUndecided { picture: name.clone(), spread_deg: e.spread_deg });
     fitted.prepend_notes(&notes.into_iter().chain(undecided).collect::<Vec<_>>());
+    if ask.keep_texture {
+        fitted.material.detail = Some(texture::detail(&view, &disk, &fitted.material));
+    }
     Ok(LitSphere { fitted, view, scene, disk, outline, seen, estimate, light, stylization })
 }
 

@@ -234,7 +234,7 @@ use brdfpaint::brdf::lobe::{Base, Lobe};
     let dir = tempfile::tempdir().unwrap();
     material.save(dir.path()).unwrap();
     let json: serde_json::Value = serde_json::from_slice(&std::fs::read(dir.path().join("material.json")).unwrap()).unwrap();
-    assert_eq!(json["version"], 4);
+    assert_eq!(json["version"], 5);
     assert_eq!(json["terms"][0]["base"]["alpha"], base.alpha);
     assert_eq!(json["terms"][0]["base"]["lobe"], "ggx");
     assert!(Material::load(dir.path()).unwrap() == material);

@@ -62,6 +62,7 @@ fn two_terms() -> Material {
                 coefficients: Some(Coefficients::grey(5, &c1)),
             },
         ],
+        detail: None,
         provenance: Provenance::default(),
     }
 }

@@ -48,6 +48,13 @@ pub(super) enum StyleArg {
     Auto,
 }
 
+/// Whether a lit sphere's brush texture travels with its material (`--texture`).
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(super) enum TextureArg {
+    Keep,
+    Drop,
+}
+
 /// Material-map fitting methods.
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(super) enum MapFitArg {
@@ -97,6 +104,12 @@ pub(super) struct FitArgs {
     /// values, and a note says what was decided.
     #[arg(long, value_enum, default_value = "auto", requires = "lit_sphere")]
     style: StyleArg,
+    /// With --lit-sphere: keep the painting's brush texture (its detail over the fitted
+    /// material, finer than the shading) and carry it to every model, looked up by the surface
+    /// normal in view space as a MatCap is; render and view multiply the relit material by it.
+    /// drop (the default): the material alone.
+    #[arg(long, value_enum, default_value = "drop", requires = "lit_sphere")]
+    texture: TextureArg,
     /// A folder of photographs in the photometric-stereo layout (DiLiGenT's): the images,
     /// filenames.txt naming them, light_directions.txt (one x y z per image),
     /// light_intensities.txt (one r g b per image), mask.png and a normal map (normal.exr,
@@ -336,6 +349,7 @@ fn lit_ask(args: &FitArgs) -> litsphere::Ask {
         },
         res_given: args.res.is_some(),
         smooth_given: args.lambda.is_some(),
+        keep_texture: args.texture == TextureArg::Keep,
     }
 }
 

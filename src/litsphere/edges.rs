@@ -89,7 +89,7 @@ const NOISE_FACTOR: f32 = 4.0;
 const CONTRAST_SHARE: f32 = 0.08;
 
 /// Separable Gaussian blur with standard deviation `sigma` pixels (edges clamped).
-fn blur(c: &[f32], w: usize, h: usize, sigma: f64) -> Vec<f32> {
+pub(crate) fn blur(c: &[f32], w: usize, h: usize, sigma: f64) -> Vec<f32> {
     let radius = (3.0 * sigma).ceil() as isize;
     let kernel: Vec<f32> = (-radius..=radius).map(|d| (-(d * d) as f64 / (2.0 * sigma * sigma)).exp() as f32).collect();
     let sum: f32 = kernel.iter().sum();

@@ -11,6 +11,7 @@
 //! reference the GL renderer is tested against.
 
 pub mod based;
+pub mod detail;
 pub mod map;
 pub mod packed;
 mod store;
@@ -23,6 +24,7 @@ use crate::factor::system::coordinate;
 use crate::factor::table::{stencil_1d, stencil_2d};
 use crate::brdf::lobe::Base;
 use based::BasedFit;
+pub use detail::Detail;
 use crate::factor::{Errors, FactorSpec, Fit, Input, LogMap, Query, Settings};
 
 /// The four kinds of the thesis (DESIGN.md, Material directory).
@@ -115,6 +117,9 @@ pub struct Provenance {
 pub struct Material {
     pub kind: Kind,
     pub terms: Vec<Term>,
+    /// The painting's detail over the relit material (`fit --texture keep`), multiplying every
+    /// term at the surface's view-space normal; `None` unless asked for.
+    pub detail: Option<Detail>,
     pub provenance: Provenance,
 }
 
@@ -169,7 +174,7 @@ impl Term {
 impl Material {
     /// A material of `terms`, without provenance.
     pub fn new(kind: Kind, terms: Vec<Term>) -> Material {
-        Material { kind, terms, provenance: Provenance::default() }
+        Material { kind, terms, detail: None, provenance: Provenance::default() }
     }
 
     /// A uniform (or four-factor) material from a fit of one product.
@@ -187,7 +192,7 @@ impl Material {
             .map(|(spec, t)| Factor { spec: spec.clone(), texels: t.iter().map(|x| x.map(|c| c as f32)).collect() })
             .collect();
         let kind = if settings.factors.iter().any(|f| f.input == Input::Uv) { Kind::FourFactor } else { Kind::Uniform };
-        Ok(Material { kind, terms: vec![Term { base: None, factors, map: fit.map, coefficients: None }], provenance })
+        Ok(Material { kind, terms: vec![Term { base: None, factors, map: fit.map, coefficients: None }], detail: None, provenance })
     }
 
     /// A uniform (or four-factor) material from a fit over an analytic base

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::{Coefficients, Factor, Kind, Material, Provenance, Term};
+use super::{Coefficients, Detail, Factor, Kind, Material, Provenance, Term};
 use crate::commit::{Claim, Legacy, StagedDir};
 use crate::error::{Error, Result};
 use crate::brdf::lobe::Base;
@@ -31,12 +31,15 @@ pub const FORMAT: &str = "brdfpaint-material";
 /// ambient, diffuse, specular and Fresnel per channel, the GGX width `alpha`; absent without
 /// one). Version 4 added the base lobe's family (`lobe`: `ggx`, `blinn-phong`, `phong`,
 /// `ward`, `ashikhmin-shirley`, `oren-nayar` or `minnaert`), which a version 3 reader would
-/// ignore and draw as GGX.
-pub const VERSION: u32 = 4;
+/// ignore and draw as GGX. Version 5 added the painting's detail (`detail`: `res`, `floor`
+/// and `texture`, a square EXR looked up by the view-space normal; absent without one), which a
+/// version 4 reader would ignore and draw without.
+pub const VERSION: u32 = 5;
 /// The versions this build reads: version 1 files are version 2 files without those
 /// (every factor unwarped), version 2 files are version 3 files without bases, version 3
-/// files are version 4 files whose bases are all GGX.
-pub const READS: [u32; 4] = [1, 2, 3, 4];
+/// files are version 4 files whose bases are all GGX, version 4 files are version 5 files
+/// without detail.
+pub const READS: [u32; 5] = [1, 2, 3, 4, 5];
 /// Largest material.json read (the provenance is the only part that grows).
 const MAX_JSON_BYTES: u64 = 16 << 20;
 
@@ -62,12 +65,25 @@ struct FileTerm {
     base: Option<Base>,
 }
 
+/// The detail texture's file: [`Detail`]'s square image, `res` texels a side, and its floor.
+#[derive(Serialize, Deserialize)]
+struct FileDetail {
+    res: usize,
+    floor: f32,
+    texture: String,
+}
+
+/// The file name the detail texture is written under.
+const DETAIL_TEXTURE: &str = "detail.exr";
+
 #[derive(Serialize, Deserialize)]
 struct FileMaterial {
     format: String,
     version: u32,
     kind: Kind,
     terms: Vec<FileTerm>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    detail: Option<FileDetail>,
     #[serde(default)]
     provenance: Provenance,
 }
@@ -124,11 +140,19 @@ impl Material {
             };
             terms.push(FileTerm { mapping: term.map, factors, coefficients, base: term.base });
         }
+        let detail = match &self.detail {
+            Some(d) => {
+                Rgb { width: d.res, height: d.res, pixels: d.texels.clone() }.write_exr(&dir.join(DETAIL_TEXTURE))?;
+                Some(FileDetail { res: d.res, floor: d.floor, texture: DETAIL_TEXTURE.into() })
+            }
+            None => None,
+        };
         let file = FileMaterial {
             format: FORMAT.into(),
             version: VERSION,
             kind: self.kind,
             terms,
+            detail,
             provenance: self.provenance.clone(),
         };
         let json = serde_json::to_string_pretty(&file).map_err(|e| Error::format(dir, e.to_string()))?;
@@ -197,7 +221,14 @@ impl Material {
             };
             terms.push(Term { base: t.base, factors, map: t.mapping, coefficients });
         }
-        let material = Material { kind: file.kind, terms, provenance: file.provenance };
+        let detail = match file.detail {
+            Some(d) => {
+                let img = Rgb::read_exr(&texture_path(&dir, &json_path, &d.texture)?)?;
+                Some(Detail { res: d.res, floor: d.floor, texels: img.pixels })
+            }
+            None => None,
+        };
+        let material = Material { kind: file.kind, terms, detail, provenance: file.provenance };
         material.validate(&json_path)?;
         Ok(material)
     }
@@ -237,6 +268,9 @@ impl Material {
                     return bad(format!("term {k}: coefficient texture has negative or non-finite values"));
                 }
             }
+        }
+        if let Some(d) = &self.detail {
+            d.validate().or_else(|e| bad(e))?;
         }
         Ok(())
     }
@@ -283,6 +317,12 @@ fn check_before_decoding(file: &FileMaterial, dir: &Path, json: &Path) -> Result
             check_texture_size(&texture_path(dir, json, &c.texture)?, (c.res, c.res), "its coefficients need")?;
         }
     }
+    if let Some(d) = &file.detail {
+        if !(2..=super::detail::MAX_DETAIL_RES).contains(&d.res) {
+            return bad(format!("detail resolution {} is outside 2..={}", d.res, super::detail::MAX_DETAIL_RES));
+        }
+        check_texture_size(&texture_path(dir, json, &d.texture)?, (d.res, d.res), "the detail needs")?;
+    }
     Ok(())
 }
 
@@ -297,8 +337,11 @@ fn check_texture_size(path: &Path, want: (usize, usize), what: &str) -> Result<(
 }
 
 /// Whether a file name is one the tool writes for a term's table or coefficients:
-/// `term{k}-factor{j}-{input}.exr` or `term{k}-coefficients.exr`.
+/// `term{k}-factor{j}-{input}.exr`, `term{k}-coefficients.exr`, or the detail's.
 fn is_texture_name(name: &str) -> bool {
+    if name == DETAIL_TEXTURE {
+        return true;
+    }
     let Some((k, rest)) = name.strip_prefix("term").and_then(|r| r.split_once('-')) else { return false };
     let number = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
     let table = rest.strip_prefix("factor").and_then(|r| r.split_once('-')).is_some_and(|(j, input)| {
@@ -341,6 +384,7 @@ fn check_target(dir: &Path) -> Result<Legacy> {
                 let names = t.factors.into_iter().map(|f| f.texture).chain(t.coefficients.map(|c| c.texture));
                 ours.extend(names.filter(|n| is_texture_name(n)));
             }
+            ours.extend(file.detail.map(|d| d.texture).filter(|n| is_texture_name(n)));
         }
     }
     Ok(Legacy::Paths(ours))

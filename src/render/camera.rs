@@ -15,6 +15,10 @@ pub struct View {
     pub eye: Vec3,
     /// Unit camera forward (world), the node's $-z$.
     pub forward: Vec3,
+    /// Unit camera right and up (world), the node's $+x$ and $+y$: the view space a
+    /// material's detail is looked up in.
+    pub right: Vec3,
+    pub up: Vec3,
     /// Orthographic projection: all view directions are $-$`forward`.
     pub orthographic: bool,
 }
@@ -71,18 +75,22 @@ impl View {
             view_proj: proj * camera_from_world,
             eye: world_from_camera.transform_point3(Vec3::ZERO),
             forward: world_from_camera.transform_vector3(-Vec3::Z).normalize(),
+            right: world_from_camera.transform_vector3(Vec3::X).normalize(),
+            up: world_from_camera.transform_vector3(Vec3::Y).normalize(),
             orthographic: matches!(camera.projection, Projection::Orthographic { .. }),
         })
     }
 
-    /// Sets `u_view_proj`, `u_ortho`, `u_eye`, `u_toward_eye` and `u_view_axis` on the
-    /// bound `program`.
+    /// Sets `u_view_proj`, `u_ortho`, `u_eye`, `u_toward_eye`, `u_view_axis`, `u_view_right`
+    /// and `u_view_up` on the bound `program`.
     pub(crate) fn apply(&self, program: &Program) {
         program.set_mat4("u_view_proj", &self.view_proj);
         program.set_i32("u_ortho", self.orthographic as i32);
         program.set_vec3("u_eye", self.eye);
         program.set_vec3("u_toward_eye", -self.forward);
         program.set_vec3("u_view_axis", self.forward);
+        program.set_vec3("u_view_right", self.right);
+        program.set_vec3("u_view_up", self.up);
     }
 }
 

@@ -195,12 +195,12 @@ impl Renderer {
             keys.push(key);
         }
         let gl = &self.gl;
-        for (k, (term, key)) in shading.terms.iter().zip(&keys).enumerate() {
+        for (k, key) in keys.iter().enumerate() {
             let program = &self.factored[key];
             program.bind();
             view.apply(program);
             light.apply(program);
-            term.apply(program);
+            shading.apply(k, program);
             lighting.environment.apply(program, ENV_UNIT, lighting.rotate_deg);
             program.set_f32("u_key", if lighting.key_light { 1.0 } else { 0.0 });
             // SAFETY: state changes on the current context (as draw_factored).

@@ -220,7 +220,7 @@ impl Renderer {
             program.bind();
             view.apply(program);
             light.apply(program);
-            term.apply(program);
+            shading.apply(k, program);
             // SAFETY: state changes on the current context.
             unsafe { term_pass_state(gl, k) };
             for mesh in &scene.meshes {

@@ -30,6 +30,9 @@ pub fn check(material: &Material) -> Result<()> {
     if material.terms.is_empty() {
         return Err(Error::input("the material has no terms"));
     }
+    if let Some(d) = &material.detail {
+        d.validate().map_err(Error::input)?;
+    }
     if material.terms.len() > MAX_TERMS {
         return Err(Error::input(format!(
             "the material has {} terms; the renderer draws at most {MAX_TERMS}",
@@ -115,6 +118,8 @@ pub(crate) struct GpuTerm {
 /// against 1.4× the GGX shader's frame time for three 1D factors at 1024²).
 pub struct GpuShading {
     pub(crate) terms: Vec<GpuTerm>,
+    /// The material's detail texture, which every term's pass multiplies (`HAS_DETAIL`).
+    pub(crate) detail: Option<(Texture2D, f32)>,
 }
 
 impl GpuTerm {
@@ -143,6 +148,18 @@ impl GpuTerm {
 }
 
 impl GpuShading {
+    /// Binds term `k`'s textures and the material's detail, and sets their uniforms on the
+    /// bound `program` (`shaders/term.glsl`).
+    pub(crate) fn apply(&self, k: usize, program: &crate::gl::Program) {
+        self.terms[k].apply(program);
+        if let Some((d, floor)) = &self.detail {
+            d.bind(DETAIL_UNIT);
+            program.set_i32("u_detail", DETAIL_UNIT as i32);
+            // The floor is added once, in the first term's pass (`term_detail`).
+            program.set_f32("u_detail_floor", if k == 0 { *floor } else { 0.0 });
+        }
+    }
+
     /// Checks ([`check`]) and uploads `material`.
     pub fn upload(gl: &Gl, material: &Material) -> Result<GpuShading> {
         check(material)?;
@@ -201,6 +218,8 @@ impl GpuShading {
             };
             defines.push(("HAS_COEF", (coefficients.is_some() as i32).to_string()));
             defines.push(("HAS_BASE", (term.base.is_some() as i32).to_string()));
+            defines.push(("HAS_DETAIL", (material.detail.is_some() as i32).to_string()));
+            defines.push(("DETAIL_GAIN", format!("{:?}", crate::material::detail::GAIN)));
             // The lobe's family selects the program (`shaders/term.glsl`), as `Lobe::ALL` orders them.
             let lobe = term.base.map_or(0, |b| Lobe::ALL.iter().position(|&l| l == b.lobe).unwrap_or(0));
             defines.push(("BASE_LOBE", lobe.to_string()));
@@ -216,7 +235,11 @@ impl GpuShading {
                 key,
             });
         }
-        Ok(GpuShading { terms })
+        let detail = match &material.detail {
+            Some(d) => Some((Texture2D::new(gl, d.res, d.res, TexelFormat::Rgba32F, Filter::Linear, Some(&rgba(&d.texels)))?, d.floor)),
+            None => None,
+        };
+        Ok(GpuShading { terms, detail })
     }
 
     /// Number of terms (one render pass each).
@@ -258,6 +281,8 @@ pub(crate) const FACTOR_UNIFORMS: [[&str; 2]; MAX_FACTORS] = [
 
 /// Texture unit of the coefficient texture (after the factors' units 0..MAX_FACTORS).
 pub(crate) const COEF_UNIT: u32 = MAX_FACTORS as u32;
+/// Texture unit of the detail texture (after the environment's, [`super::env`]).
+pub(crate) const DETAIL_UNIT: u32 = COEF_UNIT + 2;
 
 #[cfg(test)]
 mod tests {

@@ -10,7 +10,8 @@
 //!   ([`rendered`]: the suite another renderer made; [`photos`]: photographs held out by
 //!   light);
 //! - [`bench`](mod@bench): `brdfpaint bench`, the thesis's tables and the shader frame times;
-//!   [`measure_stroke_to_frame`]: the live painting loop, stroke to frame.
+//!   [`measure_stroke_to_frame`]: the live painting loop, stroke to frame;
+//! - [`texture`](mod@texture): brush texture kept, the painting's against a render's.
 
 pub mod bench;
 pub mod colour;
@@ -22,6 +23,7 @@ pub mod rendered;
 mod stroke;
 pub mod suite;
 pub mod systems;
+pub mod texture;
 
 use crate::brdf::{Reflectance, SphereView};
 use crate::error::Result;

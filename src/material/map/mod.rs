@@ -101,7 +101,7 @@ pub fn fit(
         Method::Cluster => cluster::fit(prepared, values, grids, &layout, opts)?,
     };
     let hybrid = prepared.settings().factors.iter().any(|f| f.input == Input::Uv);
-    let mut material = Material { kind: if hybrid { Kind::Hybrid } else { Kind::MaterialMap }, terms, provenance: Provenance::default() };
+    let mut material = Material { kind: if hybrid { Kind::Hybrid } else { Kind::MaterialMap }, terms, detail: None, provenance: Provenance::default() };
     let predicted: Vec<[f64; 3]> = pattern.queries.par_iter().map(|q| material.shading(q)).collect();
     let fitted = crate::factor::errors(&predicted, values);
     let seconds = start.elapsed().as_secs_f64();
