@@ -113,3 +113,62 @@ fn the_shader_reads_the_detail_at_the_view_space_normal() {
     assert!(checked > 5000, "{checked} pixels checked");
     assert!(worst < 0.02, "the shader's detail differs from the lookup by {worst:.4}");
 }
+
+/// `render --normals` (a photograph's normal map, drawn on the CPU) applies the detail as the
+/// shader does: over a sphere's normal map under a light at the viewer, the render with a
+/// synthetic detail over the render without it is [`Detail::lookup`] at each pixel's normal.
+#[test]
+fn a_normal_map_render_applies_the_detail_at_its_normals() {
+    let dir = tempfile::tempdir().unwrap();
+    let lit = keep(Path::new("tests/data/mypaint/paintings/lambert/front-left-oil-texture-s1.png"));
+    let res = 32;
+    let texels = (0..res * res).map(|t| {
+        let n = Detail::texel_normal(res, t % res, t / res);
+        [1.0 + 0.5 * n.x as f32, 1.0 - 0.4 * n.y as f32, 1.0]
+    });
+    let detail = Detail { res, floor: 0.0, texels: texels.collect() };
+    let with = dir.path().join("with");
+    Material { detail: Some(detail.clone()), ..lit.fitted.material.clone() }.save(&with).unwrap();
+    let without = dir.path().join("without");
+    without_detail(&lit.fitted.material).save(&without).unwrap();
+    let size = 48u32;
+    let normal_at = |i: u32, j: u32| {
+        let (x, y) = ((i as f64 + 0.5) / size as f64 * 2.0 - 1.0, 1.0 - (j as f64 + 0.5) / size as f64 * 2.0);
+        let d = x * x + y * y;
+        (d < 0.9).then(|| glam::DVec3::new(x, y, (1.0 - d).sqrt()))
+    };
+    let map = image::RgbaImage::from_fn(size, size, |i, j| match normal_at(i, j) {
+        Some(n) => image::Rgba([n.x, n.y, n.z].map(|c| ((c + 1.0) * 0.5 * 255.0).round() as u8).into_iter().chain([255]).collect::<Vec<_>>().try_into().unwrap()),
+        None => image::Rgba([0, 0, 0, 0]),
+    });
+    let normals = dir.path().join("n.png");
+    map.save(&normals).unwrap();
+    let render = |mat: &Path, out: &str| {
+        let out = dir.path().join(out);
+        let status = std::process::Command::new(env!("CARGO_BIN_EXE_brdfpaint"))
+            .args(["render", mat.to_str().unwrap(), "--normals", normals.to_str().unwrap(), "--light", "0,0,1", "--out", out.to_str().unwrap()])
+            .status()
+            .unwrap();
+        assert!(status.success());
+        brdfpaint::images::Rgb::read_exr(&out).unwrap()
+    };
+    let (a, b) = (render(&with, "a.exr"), render(&without, "b.exr"));
+    let mut worst = 0.0f64;
+    for j in 0..size {
+        for i in 0..size {
+            let (Some(_), k) = (normal_at(i, j), (j * size + i) as usize) else { continue };
+            // The normal the map stores, as 8-bit codes give it back.
+            let c = map.get_pixel(i, j).0;
+            let n = glam::DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64) / 255.0 * 2.0 - 1.0;
+            let n = n.normalize();
+            if b.pixels[k][1] < 0.02 {
+                continue;
+            }
+            let want = detail.lookup(DVec2::new(n.x, n.y));
+            for ch in 0..3 {
+                worst = worst.max((a.pixels[k][ch] as f64 / b.pixels[k][ch] as f64 - want[ch]).abs());
+            }
+        }
+    }
+    assert!(worst < 1e-3, "the normal-map render's detail differs from the lookup by {worst}");
+}

@@ -195,7 +195,13 @@ pub(super) fn render(material_path: &Path, map: &MapArgs, light: Option<&str>, s
         image.alpha[k] = if photo.normals.normals[k].is_some() { 1.0 } else { 0.0 };
         let Some(px) = px.filter(|p| p.query.l.z > 0.0) else { continue };
         let s = material.shading(&px.query);
-        image.pixels[k] = [0, 1, 2].map(|c| (s[c] * light.rgb[c]) as f32 * scale);
+        let mut value = [0, 1, 2].map(|c| s[c] * light.rgb[c]);
+        // The painting's detail, at the normal in view space (the map's frame turned back).
+        if let (Some(detail), Some(n)) = (&material.detail, photo.normals.normals[k]) {
+            let view = photo.camera_to_frame.transpose() * n;
+            value = detail.apply(value, glam::DVec2::new(view.x, view.y));
+        }
+        image.pixels[k] = value.map(|v| v as f32 * scale);
     }
     let encoding = map.encoding.map_or(Encoding::Srgb, EncodingArg::encoding);
     match (exr, encoding) {

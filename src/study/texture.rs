@@ -19,9 +19,9 @@ use crate::scene::Light;
 /// pixels wide passes, the shading's gradient does not.
 pub const HIGH_PASS_SIGMA: f64 = 3.0;
 
-/// Linear offset under the log: below it an 8-bit picture's codes are noise
-/// ([`crate::litsphere::texture`]'s floor).
-const DARK: f32 = 0.01;
+/// Linear offset under the log: below it an 8-bit picture's codes are noise (the floor the
+/// detail is measured above).
+const DARK: f32 = crate::litsphere::texture::DARK as f32;
 
 /// The standard deviation of `log` minus its Gaussian blur of [`HIGH_PASS_SIGMA`] pixels,
 /// over the pixels of `mask` whose blur window lies inside the mask (the outline's step is
