@@ -40,7 +40,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut renderer = Renderer::new(ctx.gl())?;
     let scene = Scene::from_preset("bunny", "front-left")?;
     let mut gpu = GpuScene::upload(ctx.gl(), &scene)?;
-    println!("painting,painting_contrast,kept_contrast,kept_ratio,sweep_kept,sweep_dropped");
+    println!("painting,painting_contrast,kept_contrast,kept_ratio,sweep_kept,sweep_dropped,painting_scale,kept_scale");
     let (mut ratios, mut sweeps) = (Vec::new(), Vec::new());
     for path in &paintings {
         let ask = Ask { keep_texture: true, ..Ask::default() };
@@ -53,19 +53,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         };
         // The fit drew its samples on a context of its own.
         ctx.make_current()?;
-        let painted = texture::painting_contrast(&lit.view, &lit.fitted.material);
+        let painted = texture::painting_texture(&lit.view, &lit.fitted.material);
         let dropped = brdfpaint::material::Material { detail: None, ..lit.fitted.material.clone() };
         let shading = renderer.upload(&lit.fitted.material)?;
         gpu.light = scene.light;
         let with = renderer.factored(&gpu, &shading, SIZE, SIZE)?;
         let without = renderer.factored(&gpu, &renderer.upload(&dropped)?, SIZE, SIZE)?;
-        let kept = texture::render_contrast(&with, &without);
+        let kept = texture::render_texture(&with, &without);
         let sweep = texture::sweep_ratio(&mut renderer, &mut gpu, &shading, 256, 8)?;
         let plain = renderer.upload(&dropped)?;
         let sweep_dropped = texture::sweep_ratio(&mut renderer, &mut gpu, &plain, 256, 8)?;
         let name = path.strip_prefix(&data).unwrap_or(path).display().to_string();
-        println!("{name},{painted:.4},{kept:.4},{:.2},{sweep:.3},{sweep_dropped:.3}", kept / painted);
-        ratios.push(kept / painted);
+        println!("{name},{:.4},{:.4},{:.2},{sweep:.3},{sweep_dropped:.3},{:.3},{:.3}", painted.contrast, kept.contrast, kept.contrast / painted.contrast, painted.scale, kept.scale);
+        ratios.push(kept.contrast / painted.contrast);
         sweeps.push(sweep);
     }
     let worst = |v: &[f64], f: fn(f64, f64) -> f64, start: f64| v.iter().cloned().fold(start, f);

@@ -19,18 +19,40 @@ use crate::scene::Light;
 /// pixels wide passes, the shading's gradient does not.
 pub const HIGH_PASS_SIGMA: f64 = 3.0;
 
+/// The blurs of the strokes' scale ([`Texture::scale`]): 1.5 pixels keeps only grain and
+/// stroke edges, 6 keeps whole strokes.
+pub const FINE_SIGMA: f64 = 1.5;
+pub const COARSE_SIGMA: f64 = 6.0;
+
+/// A texture's statistics: its contrast, and the share of it at the finest scale.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Texture {
+    /// [`high_pass_contrast`] at [`HIGH_PASS_SIGMA`].
+    pub contrast: f64,
+    /// The contrast at [`FINE_SIGMA`] over that at [`COARSE_SIGMA`]: near 1 for grain finer
+    /// than a pixel or two, smaller the wider the strokes.
+    pub scale: f64,
+}
+
+impl Texture {
+    fn of(log: &[f32], mask: &[bool], w: usize, h: usize) -> Texture {
+        let at = |sigma| high_pass_contrast(log, mask, w, h, sigma);
+        Texture { contrast: at(HIGH_PASS_SIGMA), scale: at(FINE_SIGMA) / at(COARSE_SIGMA).max(1e-12) }
+    }
+}
+
 /// Linear offset under the log: below it an 8-bit picture's codes are noise (the floor the
 /// detail is measured above).
 const DARK: f32 = crate::litsphere::texture::DARK as f32;
 
-/// The standard deviation of `log` minus its Gaussian blur of [`HIGH_PASS_SIGMA`] pixels,
-/// over the pixels of `mask` whose blur window lies inside the mask (the outline's step is
-/// not texture).
-pub fn high_pass_contrast(log: &[f32], mask: &[bool], w: usize, h: usize) -> f64 {
+/// The standard deviation of `log` minus its Gaussian blur of `sigma` pixels, over the
+/// pixels of `mask` whose blur window lies inside the mask (the outline's step is not
+/// texture).
+pub fn high_pass_contrast(log: &[f32], mask: &[bool], w: usize, h: usize, sigma: f64) -> f64 {
     let m: Vec<f32> = mask.iter().map(|&b| b as i32 as f32).collect();
-    let inside = blur(&m, w, h, HIGH_PASS_SIGMA);
+    let inside = blur(&m, w, h, sigma);
     let masked: Vec<f32> = log.iter().zip(&m).map(|(l, m)| l * m).collect();
-    let smooth = blur(&masked, w, h, HIGH_PASS_SIGMA);
+    let smooth = blur(&masked, w, h, sigma);
     let values: Vec<f64> =
         (0..w * h).filter(|&k| mask[k] && inside[k] > 0.999).map(|k| (log[k] - smooth[k] / inside[k]) as f64).collect();
     if values.len() < 2 {
@@ -49,9 +71,9 @@ fn log_ratio(a: f32, b: f32) -> f32 {
     ((a.max(0.0) + DARK) / (b.max(0.0) + DARK)).ln()
 }
 
-/// The texture of a painting: [`high_pass_contrast`] of its log luminance over that of
+/// The texture of a painting: [`Texture`] of its log luminance over that of
 /// `material` re-rendered in its scene, over its samples (usable and painted pixels).
-pub fn painting_contrast(view: &PaintedView, material: &Material) -> f64 {
+pub fn painting_texture(view: &PaintedView, material: &Material) -> Texture {
     let (g, p) = (&view.geometry, &view.painting);
     let mut log = vec![0.0f32; g.pixels.len()];
     let mut mask = vec![false; g.pixels.len()];
@@ -62,15 +84,15 @@ pub fn painting_contrast(view: &PaintedView, material: &Material) -> f64 {
         log[k] = log_ratio(luminance(&p.pixels[k]), luminance(&fit));
         mask[k] = true;
     }
-    high_pass_contrast(&log, &mask, g.width, g.height)
+    Texture::of(&log, &mask, g.width, g.height)
 }
 
-/// The texture of a render: [`high_pass_contrast`] of its log luminance over that of the
+/// The texture of a render: [`Texture`] of its log luminance over that of the
 /// same render without the detail, over the object (alpha 1).
-pub fn render_contrast(with: &Image, without: &Image) -> f64 {
+pub fn render_texture(with: &Image, without: &Image) -> Texture {
     let log: Vec<f32> = with.pixels.iter().zip(&without.pixels).map(|(a, b)| log_ratio(luminance(a), luminance(b))).collect();
     let mask: Vec<bool> = with.pixels.iter().map(|c| c[3] == 1.0).collect();
-    high_pass_contrast(&log, &mask, with.width, with.height)
+    Texture::of(&log, &mask, with.width, with.height)
 }
 
 /// The darkest frame's mean over the brightest's as a directional light, raised 22° above
