@@ -263,6 +263,10 @@ fn bad_input_is_one_line_naming_the_file_and_writes_nothing() {
         vec!["fit", "--scene", s(&scene), "--image", s(&good), "--scene", s(&scene), "--out", "m"],
         vec!["fit", "--scene", s(&scene), "--image", s(&good), "--merl", "x.binary", "--out", "m"],
         vec!["fit", "--out", "m"],
+        // Lit-sphere flags on a scene painting.
+        vec!["fit", "--scene", s(&scene), "--image", s(&good), "--texture", "keep", "--out", "m"],
+        vec!["fit", "--scene", s(&scene), "--image", s(&good), "--style", "stylized", "--out", "m"],
+        vec!["fit", "--scene", s(&scene), "--image", s(&good), "--disk", "10,10,5", "--out", "m"],
     ] {
         let r = brdfpaint(&d.join("cache"), &args);
         assert_eq!(r.code, 2, "{args:?}: {}", r.stderr);

@@ -264,6 +264,10 @@ pub(super) fn run(args: FitArgs) -> std::result::Result<(), Failure> {
     if !args.lit_sphere.is_empty() && (args.light.len() > 1 || args.light.iter().any(|l| l.rgb.is_some())) {
         return Err(Failure::Usage("--lit-sphere takes one --light X,Y,Z (its colour comes from the picture; with several pictures it lights them all)".into()));
     }
+    let lit_only = [(args.disk.is_some(), "--disk"), (args.style != StyleArg::Auto, "--style"), (args.texture != TextureArg::Drop, "--texture")];
+    if let Some((_, flag)) = lit_only.iter().find(|(given, _)| *given && args.lit_sphere.is_empty()) {
+        return Err(Failure::Usage(format!("{flag} applies to lit spheres and MatCaps: give --lit-sphere IMAGE")));
+    }
     if !args.light.is_empty() && args.lit_sphere.is_empty() && !photographs {
         return Err(Failure::Usage("--light applies to --lit-sphere and to photographs (--normals N --image P --light X,Y,Z)".into()));
     }
