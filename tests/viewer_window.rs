@@ -323,9 +323,40 @@ fn the_window_under_an_environment_matches_render_env() {
     }
     let dir = tempfile::tempdir().unwrap();
     let material = fitted_material(dir.path());
-    let shot = dir.path().join("env.png");
-    let args = ["--env", "city", "--env-rotate", "30", "--exposure", "0.5", "--render-scale", "1"];
-    let (image, info) = screenshot(&material, &args, &shot);
+    let env = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/hdri/city.exr");
+    let view = ["--env", "city", "--env-rotate", "30", "--exposure", "0.5", "--render-scale", "1"];
+    let render = ["--env", env.to_str().unwrap(), "--env-rotate", "30", "--exposure", "0.5"];
+    let (image, info) = window_against_render(dir.path(), &material, &view, &render);
+    // And the environment is really there: the view is not the viewer's flat background.
+    let r = &info.view_rect;
+    let flat = (0..r.width).step_by(5).filter(|&i| image.get_pixel((r.x + i) as u32, (r.y + r.height - 5) as u32).0 == info.background).count();
+    assert!(flat < (r.width / 5) as usize / 2, "the bottom row shows the environment, not the flat background");
+}
+
+/// A material with the painting's detail (`fit --lit-sphere --texture keep`): the window
+/// draws its strokes as `render` does.
+#[test]
+fn the_window_draws_a_kept_brush_texture_as_render_does() {
+    if !have("xvfb-run") {
+        eprintln!("SKIPPED the_window_draws_a_kept_brush_texture_as_render_does: xvfb-run is not installed (apt-get install xvfb xauth; .ci/run does)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let painting = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mypaint/paintings/lambert/front-left-oil-texture-s1.png");
+    let ask = brdfpaint::litsphere::Ask { keep_texture: true, ..Default::default() };
+    let lit = brdfpaint::litsphere::fit_in(&painting, &ask, &Default::default(), None).unwrap();
+    assert!(lit.fitted.material.detail.is_some());
+    let material = dir.path().join("kept");
+    lit.fitted.material.save(&material).unwrap();
+    window_against_render(dir.path(), &material, &["--render-scale", "1"], &[]);
+}
+
+/// Shows `material` on the sphere in the window (with `view_args`) and renders it with
+/// `render` (with `render_args`) under the camera and light the window reports: 99% of the
+/// pixels within 3 levels. The window's screenshot and report.
+fn window_against_render(dir: &Path, material: &Path, view_args: &[&str], render_args: &[&str]) -> (image::RgbImage, Info) {
+    let shot = dir.join("window.png");
+    let (image, info) = screenshot(material, view_args, &shot);
     let r = &info.view_rect;
     let camera = Camera {
         world_from_camera: Mat4::from_cols_array(&info.world_from_camera),
@@ -337,19 +368,23 @@ fn the_window_under_an_environment_matches_render_env() {
         intensity: info.light_intensity,
     };
     let scene = Scene { meshes: builtin_model("sphere").unwrap(), camera, light };
-    let gltf = dir.path().join("view.gltf");
+    let gltf = dir.join("view.gltf");
     scene.write_gltf(&gltf).unwrap();
-    let out = dir.path().join("render.png");
-    let env = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/hdri/city.exr");
+    let out = dir.join("render.png");
     let size = format!("{}x{}", r.width, r.height);
+    // Without an environment the window's background is its own flat colour.
+    let b = info.background;
+    let background = ["--background".to_string(), format!("#{:02x}{:02x}{:02x}", b[0], b[1], b[2])];
+    let background = if render_args.contains(&"--env") { &[][..] } else { &background[..] };
     let run = Command::new(env!("CARGO_BIN_EXE_brdfpaint"))
         .args(["render".as_ref(), material.as_os_str(), "--scene".as_ref(), gltf.as_os_str(), "--size".as_ref(), size.as_ref()])
-        .args(["--env".as_ref(), env.as_os_str(), "--env-rotate".as_ref(), "30".as_ref(), "--exposure".as_ref(), "0.5".as_ref()])
+        .args(render_args)
+        .args(background)
         .args(["--out".as_ref(), out.as_os_str()])
         .env("LIBGL_ALWAYS_SOFTWARE", "1")
         .output()
         .unwrap();
-    assert!(run.status.success(), "render --env failed: {}", String::from_utf8_lossy(&run.stderr));
+    assert!(run.status.success(), "render failed: {}", String::from_utf8_lossy(&run.stderr));
     let want = image::open(&out).unwrap().into_rgb8();
     // The egui overlays on the view (the name at the top left, the light's sun and its line)
     // are left out: the top 40 rows, and a generous band around the line to the sun.
@@ -365,8 +400,6 @@ fn the_window_under_an_environment_matches_render_env() {
         }
     }
     // The sun and its line cover well under 1% of the view.
-    assert!(close as f64 >= 0.99 * checked as f64, "{close} of {checked} pixels within 3 levels of render --env (worst {worst})");
-    // And the environment is really there: the view is not the viewer's flat background.
-    let flat = (0..r.width).step_by(5).filter(|&i| image.get_pixel((r.x + i) as u32, (r.y + r.height - 5) as u32).0 == info.background).count();
-    assert!(flat < (r.width / 5) as usize / 2, "the bottom row shows the environment, not the flat background");
+    assert!(close as f64 >= 0.99 * checked as f64, "{close} of {checked} pixels within 3 levels of render (worst {worst})");
+    (image, info)
 }
