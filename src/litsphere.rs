@@ -639,7 +639,8 @@ pub fn fit_in(path: &Path, ask: &Ask, opts: &Options, cache: Option<&Cache>) -> 
     // Where the disk is, how the picture was read and how sure the light is come first,
     // with the material's provenance.
     let undecided = estimate.filter(|e| e.undecided).map(|e| Note::LightUndecided { picture: name.clone(), spread_deg: e.spread_deg });
-    fitted.prepend_notes(&notes.into_iter().chain(undecided).collect::<Vec<_>>());
+    let behind = estimate.filter(|e| e.behind).map(|_| Note::LightBehind { picture: name.clone() });
+    fitted.prepend_notes(&notes.into_iter().chain(undecided).chain(behind).collect::<Vec<_>>());
     if ask.keep_texture {
         fitted.material.detail = Some(texture::detail(&view, &disk, &fitted.material));
     }

@@ -64,6 +64,9 @@ pub enum Note {
     /// from the one chosen explain its shading as well, and the plausible key light among
     /// them (upper front) was taken.
     LightUndecided { picture: String, spread_deg: f64 },
+    /// A lit sphere whose light lies beside or behind it: the best light in front is on the
+    /// hemisphere's edge, and that nearest light in front was taken.
+    LightBehind { picture: String },
     /// A lit sphere read physically or as drawn (`decided`: by `--style auto`, from its
     /// `tones` flat tones holding `share` of the disk).
     Style { picture: String, stylized: bool, decided: bool, tones: usize, share: f64 },
@@ -114,7 +117,7 @@ impl Note {
             Note::FacingAway { camera_given: false, .. } => Some(Remedy::CameraDirection),
             Note::Encodings { .. } => Some(Remedy::Encoding),
             Note::Disk { given: false, .. } => Some(Remedy::GiveDisk),
-            Note::LightUndecided { .. } => Some(Remedy::GiveLight),
+            Note::LightUndecided { .. } | Note::LightBehind { .. } => Some(Remedy::GiveLight),
             Note::Style { decided: true, .. } => Some(Remedy::Style),
             Note::Style { decided: false, .. } => None,
             Note::Page { .. }
@@ -214,6 +217,11 @@ impl fmt::Display for Note {
                 "{}: the shading does not decide the light (lit by its surroundings: directions up to {spread_deg:.0}° apart explain it as well); took the plausible key light among them, the one nearest the upper front",
                 one_line(picture)
             ),
+            Note::LightBehind { picture } => write!(
+                f,
+                "{}: lit from beside or behind the sphere (the best light in front lies on its edge, and one further back would explain the shading better); took that nearest light in front, so its certainty counts only lights in front",
+                one_line(picture)
+            ),
             Note::Style { picture, stylized: true, tones, share, .. } => write!(
                 f,
                 "{}: read as drawn (stylized): {tones} flat tones hold {:.0}% of the disk; its tone edges set the light, and the fit keeps them hard",
@@ -258,6 +266,7 @@ mod tests {
             Note::Disk { picture: "s.jpg".into(), cx: 100.0, cy: 90.5, r: 60.0, seen: 0.78, given: false },
             Note::Disk { picture: "s.jpg".into(), cx: 100.0, cy: 90.5, r: 60.0, seen: 0.78, given: true },
             Note::LightUndecided { picture: "m.exr".into(), spread_deg: 40.0 },
+            Note::LightBehind { picture: "m.exr".into() },
             Note::Style { picture: "toon.png".into(), stylized: true, decided: true, tones: 3, share: 0.97 },
             Note::Style { picture: "clay.png".into(), stylized: false, decided: false, tones: 1, share: 0.2 },
         ];
@@ -265,6 +274,6 @@ mod tests {
             let line = note.to_string();
             assert!(!line.contains('\n') && !line.contains("--"), "{line}");
         }
-        assert_eq!(notes.iter().filter(|n| n.remedy().is_some()).count(), 12);
+        assert_eq!(notes.iter().filter(|n| n.remedy().is_some()).count(), 13);
     }
 }

@@ -59,7 +59,8 @@ fn light_of_rendered_analytic_spheres_within_10_degrees() {
 /// it and to one side is read as the nearest light the search allows: the true light's
 /// azimuth at `MIN_LIGHT_Z`. A light in front but near grazing is found as it is. Both
 /// truths are known independently of the estimator, so this fails if the search strays
-/// behind the sphere, stops short of its edge, or loses the light's side.
+/// behind the sphere, stops short of its edge, or loses the light's side; and the estimate
+/// says which lights were behind (`behind`).
 #[test]
 fn a_light_behind_the_sphere_is_read_as_the_nearest_front_light() {
     use brdfpaint::litsphere::MIN_LIGHT_Z;
@@ -83,6 +84,8 @@ fn a_light_behind_the_sphere_is_read_as_the_nearest_front_light() {
         let angle = e.direction.angle_between(want).to_degrees();
         eprintln!("light {light}: estimated {:.3}, nearest in front {want:.3}, off by {angle:.1}°", e.direction);
         assert!(e.direction.z >= MIN_LIGHT_Z - 1e-9, "light {light} estimated behind: {}", e.direction);
+        // Said so: a light behind is on the edge of the search, a grazing front one is not.
+        assert_eq!(e.behind, light.z < 0.0, "light {light}: estimate {e:?}");
         assert!(angle < 10.0, "light {light}: estimated {}, {angle:.1}° from {want}", e.direction);
         worst = worst.max(angle);
     }

@@ -24,6 +24,10 @@ pub struct LightEstimate {
     /// The picture cannot decide the light (directions over [`UNDECIDED_DEG`] apart explain
     /// it as well): the direction is the plausible key light among them ([`estimate_light`]).
     pub undecided: bool,
+    /// The best light lies on the search's edge ([`EDGE_Z`]): the picture is lit from beside
+    /// or behind the sphere, read as the nearest light in front, and [`Self::spread_deg`]
+    /// counts only the directions in front.
+    pub behind: bool,
 }
 
 /// Rec. 709 luminance of linear RGB.
@@ -49,6 +53,11 @@ fn front_directions(n: usize) -> Vec<DVec3> {
 /// The estimate stays in front of the sphere, the whole front hemisphere: one picture
 /// cannot tell a light behind from a rim light (give `--light` for one).
 pub const MIN_LIGHT_Z: f64 = 0.0;
+
+/// A best light this close to the hemisphere's edge ($l_z <$ 0.05, one step of the coarse
+/// search: 6000 directions over the sphere are 2.6° apart) is pressed against it: a light
+/// further back would explain the picture better.
+pub const EDGE_Z: f64 = 0.05;
 
 /// A direction explains the shading "as well" as the best when its cost is within this
 /// factor of the best's: the misfit of a painted or environment-lit sphere is structured
@@ -141,7 +150,8 @@ fn settle(scored: Vec<(DVec3, f64)>, best: DVec3, cost: f64, inliers: f64) -> Li
     let widest = |d: DVec3| plausible.iter().map(|(l, _)| l.angle_between(d)).fold(0.0f64, f64::max);
     let undecided = widest(best).to_degrees() > UNDECIDED_DEG;
     let direction = if undecided { key_light(&plausible, cost) } else { best };
-    LightEstimate { direction, spread_deg: widest(direction).to_degrees(), inliers, undecided }
+    let behind = !undecided && best.z < EDGE_Z;
+    LightEstimate { direction, spread_deg: widest(direction).to_degrees(), inliers, undecided, behind }
 }
 
 /// The key light of a stylized picture: the direction under which its luminance is what
