@@ -46,10 +46,9 @@ pub struct Matcap {
 
 /// The normal under pixel (i, j) of an `n`-pixel MatCap, or `None` off the disk.
 pub fn normal_at(i: usize, j: usize, n: usize) -> Option<DVec3> {
-    let x = 2.0 * (i as f64 + 0.5) / n as f64 - 1.0;
-    let y = 1.0 - 2.0 * (j as f64 + 0.5) / n as f64;
-    let rr = x * x + y * y;
-    (rr < 1.0).then(|| DVec3::new(x, y, (1.0 - rr).sqrt()))
+    let p = crate::material::Detail::texel_normal(n, i, j);
+    let rr = p.length_squared();
+    (rr < 1.0).then(|| DVec3::new(p.x, p.y, (1.0 - rr).sqrt()))
 }
 
 /// A term's shading split into (diffuse, specular); the specular part is zero without a base.

@@ -97,19 +97,18 @@ fn sample(values: &[[f32; 3]], weight: &[f32], w: usize, h: usize, x: f64, y: f6
     (total > 1e-6).then(|| sum.map(|s| s / total))
 }
 
-/// Gives every empty texel the mean of its filled 8-neighbours, ring by ring outward from
-/// the filled ones, so the rim the picture's outline hides (and the corners outside the
-/// disk) continue the nearest paint rather than reading 1.
+/// Gives every empty texel the lookup can read (within two texels of the disk: it clamps
+/// to the disk and filters bilinearly) the mean of its filled 8-neighbours, ring by ring
+/// outward from the filled ones, so the rim the picture's outline hides continues the
+/// nearest paint rather than reading 1. The corners beyond stay empty (they read 1).
 fn fill_from_neighbours(texels: &mut [Option<[f32; 3]>], res: usize) {
-    if texels.iter().all(Option::is_none) {
-        return;
-    }
-    while texels.iter().any(Option::is_none) {
+    let reach = 1.0 + 4.0 / res as f64;
+    let read: Vec<usize> = (0..res * res).filter(|&t| Detail::texel_normal(res, t % res, t / res).length() <= reach).collect();
+    loop {
+        let empty: Vec<usize> = read.iter().copied().filter(|&t| texels[t].is_none()).collect();
         let before = texels.to_vec();
-        for t in 0..res * res {
-            if before[t].is_some() {
-                continue;
-            }
+        let mut filled = 0;
+        for &t in &empty {
             let (i, j) = ((t % res) as isize, (t / res) as isize);
             let mut sum = [0.0f32; 3];
             let mut n = 0.0f32;
@@ -127,7 +126,12 @@ fn fill_from_neighbours(texels: &mut [Option<[f32; 3]>], res: usize) {
             }
             if n > 0.0 {
                 texels[t] = Some(sum.map(|s| s / n));
+                filled += 1;
             }
+        }
+        // Done, or nothing left to grow from (a picture without samples).
+        if filled == 0 {
+            return;
         }
     }
 }

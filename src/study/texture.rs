@@ -62,8 +62,9 @@ pub fn high_pass_contrast(log: &[f32], mask: &[bool], w: usize, h: usize, sigma:
     (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / values.len() as f64).sqrt()
 }
 
+/// [`crate::images::luminance`] of the RGB of a painting's or a render's pixel.
 fn luminance(c: &[f32]) -> f32 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+    crate::images::luminance([c[0], c[1], c[2]].map(f64::from)) as f32
 }
 
 /// The log of a luminance ratio, offset by [`DARK`] where noise rules.
