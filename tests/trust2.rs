@@ -3,122 +3,17 @@
 //! the exit code, the one-line message and, for the bombs, the peak memory the kernel
 //! measured for the run.
 
+mod measured_common;
+
 use std::io::Write;
-use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
 
 use brdfpaint::brdf::Merl;
 use brdfpaint::images::env::Environment;
 use brdfpaint::scene::{frame, sphere_mesh, Preset, Scene};
 use serde_json::{json, Value};
 
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-/// What one run printed and returned, and its peak resident memory.
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-    peak_mib: u64,
-}
-
-/// Every rejected bomb stays under this peak (issue 33's target).
-const BOMB_PEAK_MIB: u64 = 600;
-
-/// Runs `brdfpaint` with its prepare cache in `cache`, killed (and the test failed) after
-/// `limit`, under a 4 GiB address-space limit so that a run that would take gigabytes
-/// fails rather than exhausts the machine. The peak is the kernel's (`wait4`).
-fn run(cache: &Path, args: &[&str], limit: Duration) -> Run {
-    let dir = tempfile::tempdir().unwrap();
-    let (out, err) = (dir.path().join("out"), dir.path().join("err"));
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_brdfpaint"));
-    cmd.args(args)
-        .env("BRDFPAINT_CACHE", cache)
-        .env("LIBGL_ALWAYS_SOFTWARE", "1")
-        .stdin(Stdio::null())
-        .stdout(std::fs::File::create(&out).unwrap())
-        .stderr(std::fs::File::create(&err).unwrap());
-    const ADDRESS_SPACE: libc::rlim_t = 4 << 30;
-    // SAFETY: only async-signal-safe calls between fork and exec.
-    unsafe {
-        cmd.pre_exec(|| {
-            let limit = libc::rlimit { rlim_cur: ADDRESS_SPACE, rlim_max: ADDRESS_SPACE };
-            if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
-                return Err(std::io::Error::last_os_error());
-            }
-            Ok(())
-        });
-    }
-    // Reaped by `wait4` below, which also gives its resource usage.
-    #[allow(clippy::zombie_processes)]
-    let pid = cmd.spawn().unwrap().id() as libc::pid_t;
-    let start = Instant::now();
-    let (mut status, mut usage) = (0, unsafe { std::mem::zeroed::<libc::rusage>() });
-    loop {
-        // SAFETY: polls our own child (std's handle to it was dropped without waiting).
-        let r = unsafe { libc::wait4(pid, &mut status, libc::WNOHANG, &mut usage) };
-        if r == pid {
-            break;
-        }
-        if start.elapsed() > limit {
-            // SAFETY: our own child, not yet reaped.
-            unsafe {
-                libc::kill(pid, libc::SIGKILL);
-                libc::wait4(pid, &mut status, 0, &mut usage);
-            }
-            panic!("brdfpaint {args:?} hung for {limit:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let code = if libc::WIFEXITED(status) { libc::WEXITSTATUS(status) } else { -libc::WTERMSIG(status) };
-    Run {
-        code,
-        stdout: std::fs::read_to_string(out).unwrap(),
-        stderr: std::fs::read_to_string(err).unwrap(),
-        // ru_maxrss is in kilobytes on Linux.
-        peak_mib: usage.ru_maxrss as u64 >> 10,
-    }
-}
-
-const MINUTE: Duration = Duration::from_secs(60);
-
-/// Exit 1 and one line on stderr that contains every one of `parts`.
-fn assert_one_line_error(r: &Run, parts: &[&str]) {
-    assert_eq!(r.code, 1, "{}", r.stderr);
-    assert_eq!(r.stderr.lines().count(), 1, "{}", r.stderr);
-    assert!(r.stderr.starts_with("error: ") && !r.stderr.contains("internal error"), "{}", r.stderr);
-    for p in parts {
-        assert!(r.stderr.contains(p), "{p:?} not in {}", r.stderr);
-    }
-}
-
-/// A bomb is refused with one line, under [`BOMB_PEAK_MIB`].
-fn assert_refused_small(r: &Run, parts: &[&str]) {
-    assert_one_line_error(r, parts);
-    assert!(r.peak_mib < BOMB_PEAK_MIB, "peaked at {} MiB: {}", r.peak_mib, r.stderr);
-}
-
-/// An RGB PNG (8- or 16-bit) of `w` × `h` pixels, `colour(x, y)` each, written a row at a time.
-fn write_png(path: &Path, w: u32, h: u32, sixteen: bool, colour: impl Fn(u32, u32) -> [u16; 3]) {
-    let file = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
-    let mut encoder = png::Encoder::new(file, w, h);
-    encoder.set_color(png::ColorType::Rgb);
-    encoder.set_depth(if sixteen { png::BitDepth::Sixteen } else { png::BitDepth::Eight });
-    let mut writer = encoder.write_header().unwrap();
-    let mut stream = writer.stream_writer().unwrap();
-    for y in 0..h {
-        let row: Vec<u8> = (0..w)
-            .flat_map(|x| colour(x, y))
-            .flat_map(|c| if sixteen { c.to_be_bytes().to_vec() } else { vec![c as u8] })
-            .collect();
-        stream.write_all(&row).unwrap();
-    }
-    stream.finish().unwrap();
-}
+use measured_common::*;
 
 /// A small MERL file (a Lambertian table) and the material `fit --merl` makes of it.
 fn merl_material(dir: &Path) -> PathBuf {
@@ -142,28 +37,6 @@ fn lit_sphere_strips_are_one_line_errors() {
         let size = format!("strip-{w}x{h}.png is {w}x{h}: too small or too narrow to hold a sphere");
         assert_one_line_error(&r, &[&size, &format!("its shorter side is {shorter} pixels; a sphere needs 16")]);
     }
-}
-
-/// Smaller item: a 4096² 16-bit PNG of background (130 KB) took 547 MB before `fit
-/// --lit-sphere` refused it; it is now read a row at a time into the 512² picture fitted.
-#[test]
-fn a_large_background_png_is_refused_in_a_few_megabytes() {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("background.png");
-    write_png(&path, 4096, 4096, true, |_, _| [32768, 16384, 8192]);
-    let r = run(dir.path(), &["fit", "--lit-sphere", s(&path), "--out", s(&dir.path().join("out"))], MINUTE);
-    assert_one_line_error(&r, &["background.png is all background: no sphere to find"]);
-    assert!(r.peak_mib < 100, "peaked at {} MiB", r.peak_mib);
-
-    // A painting whose aspect disagrees with its scene's camera is refused from its header.
-    let sheet = dir.path().join("sheet");
-    let r = run(dir.path(), &["sheet", "--model", "sphere", "--size", "64x64", "--out", s(&sheet)], MINUTE);
-    assert_eq!(r.code, 0, "{}", r.stderr);
-    let wide = dir.path().join("wide.png");
-    write_png(&wide, 4096, 2048, true, |_, _| [32768, 16384, 8192]);
-    let r = run(dir.path(), &["fit", "--scene", s(&sheet.join("scene.gltf")), "--image", s(&wide), "--out", s(&dir.path().join("mat"))], MINUTE);
-    assert_one_line_error(&r, &["wide.png", "4096x2048"]);
-    assert!(r.peak_mib < 100, "peaked at {} MiB", r.peak_mib);
 }
 
 /// Item 5: a prepare-cache entry that is a FIFO hung `fit`; a link to /dev/zero read until
