@@ -18,8 +18,8 @@
 //! a lit side brighter towards the light (Lambert with ambient: $c = 0$) and, for warm-to-cool
 //! paintings, an unlit side that still brightens towards the terminator ($c > 0$, Gooch).
 //! For every candidate $l$ the model is linear in $(a, b, c)$, so each candidate costs one
-//! 3×3 solve; candidates cover the whole front hemisphere ($l_z \ge 0$: a light behind the
-//! sphere cannot be told from a rim light in one picture — give `--light` for one). Pixels the
+//! 3×3 solve; candidates cover the whole sphere but straight behind it ([`MIN_LIGHT_Z`]:
+//! a light there lights none of the disk). Pixels the
 //! model cannot explain (highlights, strokes) are left out by a robust reweighting (residuals
 //! beyond 2.5 MAD), and the spread of the near-optimal directions says how sure it is. When
 //! that spread is wide (a MatCap lit by its surroundings), the picture cannot decide: the
@@ -48,7 +48,7 @@ mod segment;
 pub mod style;
 pub mod texture;
 
-pub use light::{estimate_light, estimate_tone_light, LightEstimate, KEY, MIN_LIGHT_Z, UNDECIDED_DEG};
+pub use light::{estimate_light, estimate_tone_light, unlit_floor, LightEstimate, KEY, MIN_LIGHT_Z, UNDECIDED_DEG};
 pub use style::Style;
 use segment::{border_median, components, otsu, perceptual_distance};
 
@@ -365,8 +365,24 @@ pub fn shrink(p: &Painting, max_side: usize) -> (Painting, usize) {
 /// Damping of the light factor's deviation from its physical shape in a lit-sphere fit
 /// ([`settings`]).
 pub const LIGHT_DAMP: f64 = 1e-3;
-/// The floor of that shape behind the surface, a fraction of the picture's largest value.
+/// The floor of that shape behind the surface, a fraction of the picture's largest value,
+/// unless the picture shows it ([`light_floor`]).
 pub const LIGHT_FLOOR: f64 = crate::factor::defaults::LIGHT_FLOOR;
+
+/// The light prior's floor for `picture` lit from `light`: under a light behind the sphere
+/// more than half the disk faces away from it and shows that floor directly, lit by what is
+/// not the key light (an environment's sky, a fill light), so the picture's own
+/// ([`unlit_floor`]) when brighter than [`LIGHT_FLOOR`]; otherwise the picture shows it at
+/// most at the terminator, and [`LIGHT_FLOOR`] keeps the material darkening when relit from
+/// behind. A floor below the picture's would set the prior against the data on the whole
+/// front, and the smoothing of that gap carries it into the lit side no light in the picture
+/// reaches: relit from the front, such a material blew out to white.
+pub fn light_floor(picture: &Picture, light: DVec3) -> f64 {
+    if light.z >= 0.0 {
+        return LIGHT_FLOOR;
+    }
+    unlit_floor(&picture.painting, &picture.disk, light.normalize()).map_or(LIGHT_FLOOR, |f| f.max(LIGHT_FLOOR))
+}
 
 /// The fit settings of a lit sphere: `base` with the light factor drawn to its physical
 /// shape where the picture leaves it free ([`Settings::light_prior`], with first-difference
@@ -381,8 +397,8 @@ pub const LIGHT_FLOOR: f64 = crate::factor::defaults::LIGHT_FLOOR;
 /// light's, as irradiance is, and a light behind the surface finds the floor; where the
 /// picture shows otherwise (a Gooch sphere's lit unlit side) the data win. Measured on the 23
 /// bundled MatCaps under a light sweep around the bunny (tests/lit_sphere.rs).
-pub fn settings(base: &Settings) -> Settings {
-    base.with_light_prior(LIGHT_DAMP, LIGHT_FLOOR)
+pub fn settings(base: &Settings, floor: f64) -> Settings {
+    base.with_light_prior(LIGHT_DAMP, floor)
 }
 
 /// A lit-sphere picture made ready to fit: read, box-filtered to at most a given side, its
@@ -572,12 +588,13 @@ impl Stylization {
         Stylization { asked, stylized, tones }
     }
 
-    /// The fit settings from the user's `base`: the lit-sphere rule ([`settings`]), or a
-    /// stylized fit's ([`style::settings`]; `res_given`, `smooth_given`: the user chose them).
-    pub fn settings(&self, base: &Settings, disk: &Disk, res_given: bool, smooth_given: bool) -> Settings {
+    /// The fit settings from the user's `base` for `picture` lit from `light`: the lit-sphere
+    /// rule ([`settings`], [`light_floor`]), or a stylized fit's ([`style::settings`];
+    /// `res_given`, `smooth_given`: the user chose them).
+    pub fn settings(&self, base: &Settings, picture: &Picture, light: DVec3, res_given: bool, smooth_given: bool) -> Settings {
         match self.stylized {
-            false => settings(base),
-            true => style::settings(base, disk, res_given, smooth_given),
+            false => settings(base, light_floor(picture, light)),
+            true => style::settings(base, &picture.disk, res_given, smooth_given),
         }
     }
 
@@ -617,17 +634,17 @@ pub fn fit_sized(path: &Path, light: Option<DVec3>, opts: &Options, cache: Optio
 pub fn fit_in(path: &Path, ask: &Ask, opts: &Options, cache: Option<&Cache>) -> Result<LitSphere> {
     let picture = Picture::read_in(path, ask.max_side, ask.disk)?;
     let stylization = Stylization::decide(ask.style, &picture);
-    let opts = &Options {
-        settings: stylization.settings(&opts.settings, &picture.disk, ask.res_given, ask.smooth_given),
-        robust: stylization.robust(),
-        ..opts.clone()
-    };
     let (light, estimate) = match ask.light {
         Some(l) => (direction(l).map_err(|e| Error::input(format!("--{e}")))?, None),
         None => {
             let e = stylization.estimate_light(&picture)?;
             (e.direction, Some(e))
         }
+    };
+    let opts = &Options {
+        settings: stylization.settings(&opts.settings, &picture, light, ask.res_given, ask.smooth_given),
+        robust: stylization.robust(),
+        ..opts.clone()
     };
     let scene = picture.scene(light);
     let notes = [picture.disk_note(), stylization.note(&picture.name)];

@@ -64,8 +64,8 @@ pub enum Note {
     /// from the one chosen explain its shading as well, and the plausible key light among
     /// them (upper front) was taken.
     LightUndecided { picture: String, spread_deg: f64 },
-    /// A lit sphere whose light lies beside or behind it: the best light in front is on the
-    /// hemisphere's edge, and that nearest light in front was taken.
+    /// A lit sphere whose light is behind it: most of the picture shows the side the light
+    /// does not reach, and a light moved to the front shows more than the picture does.
     LightBehind { picture: String },
     /// A lit sphere read physically or as drawn (`decided`: by `--style auto`, from its
     /// `tones` flat tones holding `share` of the disk).
@@ -219,7 +219,7 @@ impl fmt::Display for Note {
             ),
             Note::LightBehind { picture } => write!(
                 f,
-                "{}: lit from beside or behind the sphere (the best light in front lies on its edge, and one further back would explain the shading better); took that nearest light in front, so its certainty counts only lights in front",
+                "{}: lit from behind the sphere: the light reaches only its rim, and the rest, lit by its surroundings, sets how light the material stays where no light reaches; lit from the front, the material shows more than the picture does",
                 one_line(picture)
             ),
             Note::Style { picture, stylized: true, tones, share, .. } => write!(

@@ -1,6 +1,6 @@
 //! Lit spheres and MatCaps (`brdfpaint fit --lit-sphere`): the disk is found and the key
-//! light estimated on rendered analytic spheres (the truth known; a light behind the sphere
-//! is read as the nearest light the search allows, in front), every bundled MatCap gets a
+//! light estimated on rendered analytic spheres (the truth known, lights behind the sphere
+//! included; a sphere lit from behind relights from the front), every bundled MatCap gets a
 //! material that darkens when the light goes behind, and bad pictures are refused in one
 //! line.
 
@@ -54,42 +54,66 @@ fn light_of_rendered_analytic_spheres_within_10_degrees() {
     eprintln!("worst {worst:.1}°");
 }
 
-/// The search covers the front of the sphere only ($l_z \ge$ `MIN_LIGHT_Z`: one picture
-/// cannot tell a light behind from a rim light). A sphere rendered with a known light behind
-/// it and to one side is read as the nearest light the search allows: the true light's
-/// azimuth at `MIN_LIGHT_Z`. A light in front but near grazing is found as it is. Both
-/// truths are known independently of the estimator, so this fails if the search strays
-/// behind the sphere, stops short of its edge, or loses the light's side; and the estimate
-/// says which lights were behind (`behind`).
+/// The search reaches behind the sphere (all but 25° about straight behind, `MIN_LIGHT_Z`).
+/// A Lambertian sphere rendered with a known light behind it (left, above right, below) is
+/// read as lit from there, and one in front near grazing as it is; the truths are known
+/// independently of the estimator, so this fails if the search stops at the hemisphere's
+/// edge or loses the light's side; and the estimate says which lights were behind.
 #[test]
-fn a_light_behind_the_sphere_is_read_as_the_nearest_front_light() {
+fn a_light_behind_the_sphere_is_found_behind_it() {
     use brdfpaint::litsphere::MIN_LIGHT_Z;
     let model = Analytic::Lambert { albedo: [0.7, 0.45, 0.2] };
-    let nearest_in_front = |l: DVec3| {
-        let l = l.normalize();
-        if l.z >= MIN_LIGHT_Z {
-            return l;
-        }
-        let side = DVec3::new(l.x, l.y, 0.0).normalize();
-        side * (1.0 - MIN_LIGHT_Z * MIN_LIGHT_Z).sqrt() + DVec3::Z * MIN_LIGHT_Z
-    };
-    // Behind on the left, behind above on the right, behind below; in front at grazing.
-    let lights = [DVec3::new(-1.0, 0.2, -0.3), DVec3::new(0.8, 0.6, -0.4), DVec3::new(0.1, -1.0, -0.2), DVec3::new(0.9, 0.3, 0.2)];
+    let lights = [DVec3::new(-1.0, 0.2, -0.3), DVec3::new(0.8, 0.6, -0.4), DVec3::new(0.1, -1.0, -0.2), DVec3::new(0.9, 0.3, 0.2), DVec3::new(0.3, 0.4, -0.8)];
     let mut worst = 0.0f64;
     for light in lights {
         let picture = sphere_picture(&model, light, 160, (240, 200), (50, 20));
         let (disk, _) = find_disk(&picture, "sphere").unwrap();
         let e = estimate_light(&picture, &disk).unwrap();
-        let want = nearest_in_front(light);
-        let angle = e.direction.angle_between(want).to_degrees();
-        eprintln!("light {light}: estimated {:.3}, nearest in front {want:.3}, off by {angle:.1}°", e.direction);
-        assert!(e.direction.z >= MIN_LIGHT_Z - 1e-9, "light {light} estimated behind: {}", e.direction);
-        // Said so: a light behind is on the edge of the search, a grazing front one is not.
+        let angle = e.direction.angle_between(light.normalize()).to_degrees();
+        eprintln!("light {light}: estimated {:.3}, off by {angle:.1}°", e.direction);
+        assert!(e.direction.z >= MIN_LIGHT_Z - 1e-9, "light {light} estimated out of reach: {}", e.direction);
         assert_eq!(e.behind, light.z < 0.0, "light {light}: estimate {e:?}");
-        assert!(angle < 10.0, "light {light}: estimated {}, {angle:.1}° from {want}", e.direction);
+        assert!(!e.undecided && angle < 10.0, "light {light}: estimated {e:?}, {angle:.1}° off");
         worst = worst.max(angle);
     }
     eprintln!("worst {worst:.1}°");
+}
+
+/// A sphere lit from behind and by its surroundings (a Lambertian albedo under a light 40°
+/// behind it, plus an even ambient light of 0.4, the truth known in closed form) relit from
+/// the viewer: the fitted material's mean over the sphere within 15% of the truth's (0.955).
+/// The unlit front the picture shows is the light prior's floor (`litsphere::light_floor`);
+/// under the default 2% floor the prior fought that front, and the material relit from the
+/// viewer came out at 0.744 of the truth.
+#[test]
+fn a_sphere_lit_from_behind_relights_from_the_front_as_its_truth() {
+    use brdfpaint::brdf::SphereView;
+    const AMBIENT: f64 = 0.4;
+    let albedo = [0.55, 0.4, 0.3];
+    let behind = DVec3::new(0.5, 0.45, -0.64).normalize();
+    let truth = |n: DVec3, l: DVec3| albedo.map(|a| a * (AMBIENT + n.dot(l).max(0.0)));
+    let (w, h, res) = (200, 200, 160);
+    let mut picture = Painting::opaque(w, h, vec![[1.0; 3]; w * h]).unwrap();
+    for px in SphereView::new(behind, res).pixels() {
+        picture.pixels[(20 + px.pixel[1]) * w + 20 + px.pixel[0]] = truth(px.normal, behind).map(|x| x as f32);
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("behind.png");
+    std::fs::write(&png, picture.encode_png16().unwrap()).unwrap();
+    let lit = brdfpaint::litsphere::fit(&png, None, &Default::default(), None).unwrap();
+    let e = lit.estimate.unwrap();
+    assert!(e.behind && e.direction.angle_between(behind).to_degrees() < 10.0, "{e:?}");
+    let (mut fitted, mut want) = (0.0, 0.0);
+    for px in SphereView::new(DVec3::Z, res).pixels() {
+        fitted += luminance(lit.fitted.material.shading(&px.query));
+        want += luminance(truth(px.normal, DVec3::Z));
+    }
+    eprintln!("relit from the viewer: fitted/truth {:.3}", fitted / want);
+    assert!((fitted / want - 1.0).abs() < 0.15, "relit from the viewer: fitted {fitted:.1} against the truth's {want:.1}");
+}
+
+fn luminance(c: [f64; 3]) -> f64 {
+    brdfpaint::images::luminance(c)
 }
 
 /// Mean luminance of the object's pixels (alpha 1) of a render.
@@ -110,7 +134,7 @@ fn object_luminance(image: &brdfpaint::render::Image, w: usize, h: usize) -> f64
 #[test]
 fn every_bundled_matcap_darkens_when_the_light_goes_behind() {
     // The issue asks for 0.5; README states 0.46 for every one of the 23 MatCaps (the fits
-    // are deterministic: the reflection checks' 0.458 and 0.452 are the largest, see the end).
+    // are deterministic: the reflection checks' 0.453 and 0.447 are the largest, see the end).
     const DARKEST: f64 = 0.46;
     let ctx = HeadlessContext::new().unwrap();
     let mut renderer = Renderer::new(ctx.gl()).unwrap();
@@ -128,8 +152,7 @@ fn every_bundled_matcap_darkens_when_the_light_goes_behind() {
         let run = bin().args(["fit", "--lit-sphere"]).arg(path).arg("--out").arg(&out).output().unwrap();
         let stdout = String::from_utf8_lossy(&run.stdout);
         assert!(run.status.success(), "{stem}: {}", String::from_utf8_lossy(&run.stderr));
-        // "light estimated at (x, y, z)": printed for the record. That it is in front is the
-        // search's domain, not a finding (`a_light_behind_the_sphere_is_read_as_...`).
+        // "light estimated at (x, y, z)": printed for the record.
         let at = stdout.split("light estimated at (").nth(1).unwrap();
         let z: f64 = at.split(')').next().unwrap().split(',').nth(2).unwrap().trim().parse().unwrap();
         // A light sweep about the vertical axis: from the camera to behind the bunny.
@@ -149,9 +172,9 @@ fn every_bundled_matcap_darkens_when_the_light_goes_behind() {
             failures.push(format!("{stem}: darkest frame {lo:.4} > {DARKEST} x brightest {hi:.4}"));
         }
     }
-    // Measured (darkest/brightest): the reflection checks 0.458 and 0.452 (lit by an
+    // Measured (darkest/brightest): the reflection checks 0.453 (vertical) and 0.447 (lit by an
     // environment, their light is undecided and taken as the plausible upper-front key,
-    // z 0.38 and 0.56), resin 0.361, every other MatCap 0.28 or less. Before the lit-sphere light prior (litsphere::settings) three did
+    // z 0.52 and 0.36), resin 0.361, every other MatCap 0.28 or less. Before the lit-sphere light prior (litsphere::settings) three did
     // not darken to 0.5 (check_rim_dark 0.53, pearl 0.68, resin 0.67; the reflection checks
     // 0.62): lit from at or near the viewer, their pictures fix little more than the product
     // p q r along θ_l = θ_h = θ_v, and the Laplacian's split of it left p(θ_l) rising towards

@@ -372,18 +372,12 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
     println!("{}: outline from {how}; fitted at {}x{} pixels", image.display(), lit.view.painting.width, lit.view.painting.height);
     let l = lit.light;
     match &lit.estimate {
-        Some(e) if e.behind => println!(
-            "light estimated at ({:.2}, {:.2}, {:.2}) (x right, y up, z to the viewer), on the edge of the front: the picture is lit from beside or behind, read as the nearest light in front; {:.0}% of the disk follows one light. Correct it with --light X,Y,Z",
-            l.x,
-            l.y,
-            l.z,
-            100.0 * e.inliers
-        ),
         Some(e) => println!(
-            "light estimated at ({:.2}, {:.2}, {:.2}) (x right, y up, z to the viewer), sure to within {:.0} degrees; {:.0}% of the disk follows one light (the rest: highlights, strokes, rim light). Correct it with --light X,Y,Z",
+            "light estimated at ({:.2}, {:.2}, {:.2}) (x right, y up, z to the viewer){}, sure to within {:.0} degrees; {:.0}% of the disk follows one light (the rest: highlights, strokes, rim light). Correct it with --light X,Y,Z",
             l.x,
             l.y,
             l.z,
+            if e.behind { ", behind the sphere" } else { "" },
             e.spread_deg,
             100.0 * e.inliers
         ),

@@ -1,7 +1,8 @@
-//! The key light of a lit-sphere picture: the direction over the whole front hemisphere
-//! whose Lambertian shading, with a robust weight, best explains the disk's luminance, and
-//! how sure that is ([`estimate_light`]); for a stylized picture, the direction its tone
-//! edges and highlight are drawn about ([`estimate_tone_light`]).
+//! The key light of a lit-sphere picture: the direction (anywhere but straight behind the
+//! sphere, [`MIN_LIGHT_Z`]) whose Lambertian shading, with a robust weight, best explains
+//! the disk's luminance, and how sure that is ([`estimate_light`]); for a stylized picture,
+//! the direction in front its tone edges and highlight are drawn about
+//! ([`estimate_tone_light`]); how much light the unlit side gets ([`unlit_floor`]).
 
 use glam::{DMat3, DVec3};
 use rayon::prelude::*;
@@ -24,9 +25,8 @@ pub struct LightEstimate {
     /// The picture cannot decide the light (directions over [`UNDECIDED_DEG`] apart explain
     /// it as well): the direction is the plausible key light among them ([`estimate_light`]).
     pub undecided: bool,
-    /// The best light lies on the search's edge ([`EDGE_Z`]): the picture is lit from beside
-    /// or behind the sphere, read as the nearest light in front, and [`Self::spread_deg`]
-    /// counts only the directions in front.
+    /// The light is behind the sphere ($l_z < 0$): more than half of what the picture shows
+    /// faces away from it, lit by what is not the key light ([`unlit_floor`]).
     pub behind: bool,
 }
 
@@ -35,9 +35,9 @@ fn luminance(c: &[f32; 3]) -> f64 {
     crate::images::luminance(c.map(f64::from))
 }
 
-/// Directions towards the front of the sphere ($l_z \ge$ [`MIN_LIGHT_Z`]), about evenly
-/// spread (a Fibonacci spiral of `n` points over the whole sphere, the front ones kept).
-fn front_directions(n: usize) -> Vec<DVec3> {
+/// Directions with $l_z \ge$ `min_z`, about evenly spread (a Fibonacci spiral of `n` points
+/// over the whole sphere, those kept).
+fn search_directions(n: usize, min_z: f64) -> Vec<DVec3> {
     let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
     (0..n)
         .map(|k| {
@@ -46,18 +46,15 @@ fn front_directions(n: usize) -> Vec<DVec3> {
             let phi = golden * k as f64;
             DVec3::new(r * phi.cos(), r * phi.sin(), z)
         })
-        .filter(|d| d.z >= MIN_LIGHT_Z)
+        .filter(|d| d.z >= min_z)
         .collect()
 }
 
-/// The estimate stays in front of the sphere, the whole front hemisphere: one picture
-/// cannot tell a light behind from a rim light (give `--light` for one).
-pub const MIN_LIGHT_Z: f64 = 0.0;
-
-/// A best light this close to the hemisphere's edge ($l_z <$ 0.05, one step of the coarse
-/// search: 6000 directions over the sphere are 2.6° apart) is pressed against it: a light
-/// further back would explain the picture better.
-pub const EDGE_Z: f64 = 0.05;
+/// The search's reach behind the sphere: every direction but those within 25° of straight
+/// behind ($l_z \ge -\cos 25°$). A light within 18° of straight behind lights none of the
+/// disk the estimate samples (normals out to 0.95 of the radius, [`disk_samples`]), so
+/// nothing there can be told apart; 25° leaves a lit crescent a few pixels wide.
+pub const MIN_LIGHT_Z: f64 = -0.906;
 
 /// A direction explains the shading "as well" as the best when its cost is within this
 /// factor of the best's: the misfit of a painted or environment-lit sphere is structured
@@ -125,10 +122,10 @@ fn model_cost(l: DVec3, normals: &[DVec3], y: &[f64], weight: &[f64]) -> Option<
 /// they explain it and by a broad prior around the upper front ([`KEY`]), and `undecided`.
 pub fn estimate_light(p: &Painting, disk: &Disk) -> Result<LightEstimate> {
     let (normals, y) = disk_samples(p, disk, 4000)?;
-    let coarse = front_directions(6000);
+    let coarse = search_directions(6000, MIN_LIGHT_Z);
     let (mut best, mut cost, weight) = robust_best(&coarse, &normals, &y)?;
     // Refine in a cap of 4° around the best.
-    let fine: Vec<DVec3> = cap(best, 4f64.to_radians(), 600);
+    let fine: Vec<DVec3> = cap(best, 4f64.to_radians(), 600, MIN_LIGHT_Z);
     let costs = |dirs: &[DVec3]| -> Vec<(DVec3, f64)> { dirs.iter().filter_map(|&l| model_cost(l, &normals, &y, &weight).map(|(c, _)| (l, c))).collect() };
     let mut scored = costs(&coarse);
     scored.extend(costs(&fine));
@@ -150,7 +147,7 @@ fn settle(scored: Vec<(DVec3, f64)>, best: DVec3, cost: f64, inliers: f64) -> Li
     let widest = |d: DVec3| plausible.iter().map(|(l, _)| l.angle_between(d)).fold(0.0f64, f64::max);
     let undecided = widest(best).to_degrees() > UNDECIDED_DEG;
     let direction = if undecided { key_light(&plausible, cost) } else { best };
-    let behind = !undecided && best.z < EDGE_Z;
+    let behind = direction.z < 0.0;
     LightEstimate { direction, spread_deg: widest(direction).to_degrees(), inliers, undecided, behind }
 }
 
@@ -170,17 +167,31 @@ pub fn estimate_tone_light(p: &Painting, disk: &Disk) -> Result<LightEstimate> {
     // In display codes, where the painter chose the tones.
     let y: Vec<f64> = linear.iter().map(|&v| f64::from(crate::images::linear_to_srgb(v as f32))).collect();
     let cost = |l: DVec3| band_residual(l, &normals, &y);
-    let coarse = front_directions(4000);
+    // In front only: a tone edge is a circle about $l$ and about $-l$ alike.
+    let coarse = search_directions(4000, 0.0);
     let mut scored: Vec<(DVec3, f64)> = coarse.par_iter().map(|&l| (l, cost(l))).collect();
     let least = |scored: &[(DVec3, f64)]| scored.iter().copied().min_by(|a, b| a.1.total_cmp(&b.1)).ok_or_else(|| Error::input("no light explains the sphere's tones"));
     let (coarse_best, _) = least(&scored)?;
-    let fine = cap(coarse_best, 5f64.to_radians(), 600);
+    let fine = cap(coarse_best, 5f64.to_radians(), 600, 0.0);
     scored.extend(fine.par_iter().map(|&l| (l, cost(l))).collect::<Vec<_>>());
     let (best, residual) = least(&scored)?;
     let mean = y.iter().sum::<f64>() / y.len() as f64;
     let total = y.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>();
     let inliers = if total > 0.0 { (1.0 - residual / total).clamp(0.0, 1.0) } else { 1.0 };
     Ok(settle(scored, best, residual, inliers))
+}
+
+/// The light that reaches the side of `p`'s sphere the key light `l` does not, as a fraction
+/// of the lit side: the shading model $a + b^+ c^+ + b^- c^-$ fitted robustly under `l`
+/// (as [`estimate_light`] fits it), its value at $n \cdot l = -1$ over its value at
+/// $n \cdot l = 1$, in $[0, 1]$. Under a light behind the sphere the picture shows that side
+/// directly: the light prior's floor is then the picture's ([`crate::litsphere::settings`]).
+pub fn unlit_floor(p: &Painting, disk: &Disk, l: DVec3) -> Result<f64> {
+    let (normals, y) = disk_samples(p, disk, 4000)?;
+    let (_, _, weight) = robust_best(&[l], &normals, &y)?;
+    let s = model_cost(l, &normals, &y, &weight).map_or([0.0; 3], |(_, s)| s);
+    let lit = s[0] + s[1];
+    Ok(if lit > 0.0 { ((s[0] - s[2]) / lit).clamp(0.0, 1.0) } else { 0.0 })
 }
 
 /// Bands of a cosine in $[-1, 1]$ for [`estimate_tone_light`]: 0.0125 wide, so a tone edge
@@ -269,28 +280,35 @@ fn robust_best(dirs: &[DVec3], normals: &[DVec3], y: &[f64]) -> Result<(DVec3, f
             abs = residual.iter().map(|r| r.abs()).collect();
         }
         abs.sort_by(f64::total_cmp);
-        let sigma = (1.4826 * abs[abs.len() / 2]).max(1e-6 * y.iter().cloned().fold(0.0, f64::max));
+        // At least one 8-bit code step at the top of the picture's range: a flat unlit side
+        // (a rendered sphere's black) has no spread, and the lit side's quantization is not a
+        // stroke.
+        let sigma = (1.4826 * abs[abs.len() / 2]).max(y.iter().cloned().fold(0.0, f64::max) / 255.0);
         weight = residual.iter().map(|r| if r.abs() <= 2.5 * sigma { 1.0 } else { 0.0 }).collect();
         (best, cost, coef) = best_of(&weight)?;
     }
     Ok((best, cost, weight))
 }
 
-/// The mean of the `plausible` directions (with their costs; `best` the least) weighted by
-/// $e^{-(c/c_{best} - 1)/w}$ ([`COST_WIDTH`]) times the prior $e^{\kappa (l \cdot K - 1)}$
-/// ([`KEY`], [`KEY_CONCENTRATION`]): a posterior mean, continuous in the picture.
+/// The mean of the `plausible` directions in front of the sphere (all of them when none is)
+/// weighted by $e^{-(c/c_{best} - 1)/w}$ ([`COST_WIDTH`]) times the prior
+/// $e^{\kappa (l \cdot K - 1)}$ ([`KEY`], [`KEY_CONCENTRATION`]): a posterior mean,
+/// continuous in the picture. A picture that cannot decide its light is taken as lit from
+/// where a key light is put, in front: behind, it would show little of its material.
 fn key_light(plausible: &[(DVec3, f64)], best: f64) -> DVec3 {
+    let any_front = plausible.iter().any(|(l, _)| l.z >= 0.0);
     let sum: DVec3 = plausible
         .iter()
+        .filter(|(l, _)| l.z >= 0.0 || !any_front)
         .map(|&(l, c)| l * (-(c / best.max(1e-300) - 1.0) / COST_WIDTH + KEY_CONCENTRATION * (l.dot(KEY) - 1.0)).exp())
         .sum();
     let mean = sum.normalize_or(KEY);
-    // In front, as every candidate is (a mean of front directions is in front).
-    DVec3::new(mean.x, mean.y, mean.z.max(MIN_LIGHT_Z)).normalize()
+    // On the same side as the candidates, as a mean of them is (up to rounding).
+    DVec3::new(mean.x, mean.y, if any_front { mean.z.max(0.0) } else { mean.z.max(MIN_LIGHT_Z) }).normalize()
 }
 
-/// About `n` directions within `angle` of `centre`, in front of the sphere.
-fn cap(centre: DVec3, angle: f64, n: usize) -> Vec<DVec3> {
+/// About `n` directions within `angle` of `centre`, with $l_z \ge$ `min_z`.
+fn cap(centre: DVec3, angle: f64, n: usize, min_z: f64) -> Vec<DVec3> {
     let (t, b) = centre.any_orthonormal_pair();
     let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
     let cos_max = angle.cos();
@@ -301,6 +319,6 @@ fn cap(centre: DVec3, angle: f64, n: usize) -> Vec<DVec3> {
             let phi = golden * k as f64;
             (centre * z + t * r * phi.cos() + b * r * phi.sin()).normalize()
         })
-        .filter(|d| d.z >= MIN_LIGHT_Z)
+        .filter(|d| d.z >= min_z)
         .collect()
 }

@@ -131,9 +131,10 @@ impl SphereSession {
         Ok(SphereSession { picture, estimate, stylization, light, wanted: None, lighting: None, lighting_tried: false, rendering: None, ready: None })
     }
 
-    /// The fit settings of this picture from the user's `base` ([`Stylization::settings`]).
+    /// The fit settings of this picture under its applied light from the user's `base`
+    /// ([`Stylization::settings`]).
     pub fn settings(&self, base: &Settings) -> Settings {
-        self.stylization.settings(base, &self.picture.disk, false, false)
+        self.stylization.settings(base, &self.picture, self.light, false, false)
     }
 
     /// A paint session for this picture: `base`'s settings as [`SphereSession::settings`]
