@@ -219,7 +219,7 @@ impl fmt::Display for Note {
             ),
             Note::LightBehind { picture } => write!(
                 f,
-                "{}: lit from behind the sphere: the light reaches only its rim, and the rest, lit by its surroundings, sets how light the material stays where no light reaches; lit from the front, the material shows more than the picture does",
+                "{}: lit from behind the sphere: the light reaches only the crescent turned to it, and the rest, lit by its surroundings, sets how light the material stays where no light reaches; lit from the front, the material shows more than the picture does",
                 one_line(picture)
             ),
             Note::Style { picture, stylized: true, tones, share, .. } => write!(

@@ -185,7 +185,7 @@ pub fn estimate_tone_light(p: &Painting, disk: &Disk) -> Result<LightEstimate> {
 /// of the lit side: the shading model $a + b^+ c^+ + b^- c^-$ fitted robustly under `l`
 /// (as [`estimate_light`] fits it), its value at $n \cdot l = -1$ over its value at
 /// $n \cdot l = 1$, in $[0, 1]$. Under a light behind the sphere the picture shows that side
-/// directly: the light prior's floor is then the picture's ([`crate::litsphere::settings`]).
+/// directly: the light prior's floor is then the picture's ([`crate::litsphere::light_floor`]).
 pub fn unlit_floor(p: &Painting, disk: &Disk, l: DVec3) -> Result<f64> {
     let (normals, y) = disk_samples(p, disk, 4000)?;
     let (_, _, weight) = robust_best(&[l], &normals, &y)?;
