@@ -305,6 +305,33 @@ pub fn encode_srgb8(x: f32) -> u8 {
     (linear_to_srgb(x) * 255.0 + 0.5) as u8
 }
 
+
+pub(crate) fn format_name(format: ImageFormat) -> &'static str {
+    match format {
+        ImageFormat::Png => "PNG",
+        ImageFormat::Jpeg => "JPEG",
+        ImageFormat::OpenExr => "EXR",
+        _ => "image",
+    }
+}
+
+/// The sRGB transfer function, encoded to linear, in `f64` (16-bit codes keep their
+/// precision).
+pub fn srgb_to_linear_f64(x: f64) -> f64 {
+    if x <= 0.040_45 {
+        x / 12.92
+    } else {
+        ((x + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// A linear value as a 16-bit sRGB code (NaN becomes 0).
+pub fn encode_srgb16(x: f32) -> u16 {
+    let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) as f64 };
+    let e = if x <= 0.003_130_8 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
+    (e * 65535.0 + 0.5) as u16
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -349,30 +376,4 @@ mod tests {
         let e = Rgb::read_exr(&path).unwrap_err().to_string();
         assert!(e.contains("bad.exr"), "{e}");
     }
-}
-
-pub(crate) fn format_name(format: ImageFormat) -> &'static str {
-    match format {
-        ImageFormat::Png => "PNG",
-        ImageFormat::Jpeg => "JPEG",
-        ImageFormat::OpenExr => "EXR",
-        _ => "image",
-    }
-}
-
-/// The sRGB transfer function, encoded to linear, in `f64` (16-bit codes keep their
-/// precision).
-pub fn srgb_to_linear_f64(x: f64) -> f64 {
-    if x <= 0.040_45 {
-        x / 12.92
-    } else {
-        ((x + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-/// A linear value as a 16-bit sRGB code (NaN becomes 0).
-pub fn encode_srgb16(x: f32) -> u16 {
-    let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) as f64 };
-    let e = if x <= 0.003_130_8 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
-    (e * 65535.0 + 0.5) as u16
 }

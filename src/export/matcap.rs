@@ -35,12 +35,15 @@ pub enum Lighting<'a> {
     Env(&'a Environment, f64),
 }
 
+/// A MatCap's pixels, row 0 at the top.
+pub type Pixels = Vec<[f32; 3]>;
+
 /// A MatCap image: the whole shading, and its diffuse and specular parts when the material
 /// has an analytic base. Row 0 at the top; `mask` is true on the disk.
 pub struct Matcap {
     pub size: usize,
-    pub total: Vec<[f32; 3]>,
-    pub parts: Option<(Vec<[f32; 3]>, Vec<[f32; 3]>)>,
+    pub total: Pixels,
+    pub parts: Option<(Pixels, Pixels)>,
     pub mask: Vec<bool>,
 }
 
@@ -128,7 +131,9 @@ pub fn render(material: &Material, n: usize, lighting: &Lighting) -> Matcap {
     let mut m = Matcap { size: n, total: vec![[0.0; 3]; n * n], parts: None, mask: vec![false; n * n] };
     let mut parts = (vec![[0.0f32; 3]; n * n], vec![[0.0f32; 3]; n * n]);
     use rayon::prelude::*;
-    let rows: Vec<Vec<Option<([f64; 3], [f64; 3])>>> = (0..n)
+    // Each row's pixels on the disk: (diffuse, specular).
+    type Row = Vec<Option<([f64; 3], [f64; 3])>>;
+    let rows: Vec<Row> = (0..n)
         .into_par_iter()
         .map(|j| (0..n).map(|i| normal_at(i, j, n).map(|nrm| pixel(material, nrm, &lights))).collect())
         .collect();

@@ -270,7 +270,7 @@ impl Material {
             }
         }
         if let Some(d) = &self.detail {
-            d.validate().or_else(|e| bad(e))?;
+            d.validate().or_else(bad)?;
         }
         Ok(())
     }

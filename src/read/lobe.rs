@@ -143,6 +143,10 @@ pub struct Chosen {
     pub weight: f64,
 }
 
+/// A candidate of [`choose`] (`None`: the product alone) with its held-out predictions
+/// (`None`: a fold could not be fitted).
+type Candidate = (Option<Chosen>, Option<Vec<[f64; 3]>>);
+
 /// The lobe `choice` gives for `values` on `pattern`, with the weight of the product's
 /// correction over it; `None` for the product alone. Under `auto`, the candidate whose fits
 /// without each fold of `blocks` predict that fold best, in the relative measure of
@@ -156,7 +160,7 @@ pub fn choose(pattern: &Pattern, values: &[[f64; 3]], blocks: &Blocks, choice: B
             let judge = Judge::new(pattern, values, blocks, cache)?;
             // Simplest first: the lobe alone, more and more of the product's correction, the
             // product alone.
-            let mut candidates: Vec<(Option<Chosen>, Option<Vec<[f64; 3]>>)> = Vec::new();
+            let mut candidates: Vec<Candidate> = Vec::new();
             for weight in std::iter::once(0.0).chain(WEIGHTS) {
                 candidates.push((Some(Chosen { base, weight }), judge.lobe(&base, weight)));
             }
@@ -218,9 +222,7 @@ impl Judge {
             let train: Vec<usize> = (0..self.values.len()).filter(|&i| self.blocks.fold[i] as usize != f).collect();
             let pattern = Pattern::new(train.iter().map(|&i| self.pattern.queries[i]).collect(), self.pattern.has_uv);
             let values: Vec<[f64; 3]> = train.iter().map(|&i| self.values[i]).collect();
-            let Some((lobe, _)) = Base::fit_lobe_at(&pattern, &values, base.lobe, base.alpha) else {
-                return None;
-            };
+            let (lobe, _) = Base::fit_lobe_at(&pattern, &values, base.lobe, base.alpha)?;
             let shading: Vec<[f64; 3]> = self.pattern.queries.iter().map(|q| lobe.shading(q)).collect();
             let correction = if weight > 0.0 {
                 let logs: Vec<[f64; 3]> =
@@ -242,7 +244,7 @@ impl Judge {
 
     /// Each candidate's held-out misfit ([`misfit`]), pooled over the folds; a candidate
     /// without predictions scores infinity.
-    fn scores(&self, candidates: &[(Option<Chosen>, Option<Vec<[f64; 3]>>)]) -> Vec<f64> {
+    fn scores(&self, candidates: &[Candidate]) -> Vec<f64> {
         candidates.iter().map(|c| c.1.as_ref().map_or(f64::INFINITY, |p| misfit(&self.values, p))).collect()
     }
 
