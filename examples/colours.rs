@@ -82,7 +82,7 @@ fn main() -> brdfpaint::error::Result<()> {
             ctx.make_current()?;
             let key = gpu.camera.world_from_camera.transform_vector3(fit.light.as_vec3());
             let shading = renderer.upload(&fit.fitted.material)?;
-            let s = colour::sweep(&mut renderer, &mut gpu, &shading, &palette, Vec3::from(key), SIZE)?;
+            let s = colour::sweep(&mut renderer, &mut gpu, &shading, &palette, key, SIZE)?;
             count[k] += (s.worst() > INVENTED) as usize;
             row.push(s);
             if let Some(dir) = &png {

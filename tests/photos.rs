@@ -98,7 +98,7 @@ fn write_set(dir: &Path, model: &Analytic, which: &[usize]) {
     std::fs::write(dir.join("filenames.txt"), names).unwrap();
     std::fs::write(dir.join("light_directions.txt"), dirs).unwrap();
     std::fs::write(dir.join("light_intensities.txt"), rgbs).unwrap();
-    write_normals(&dir.join("normal.png"), |i, j| normal(i, j));
+    write_normals(&dir.join("normal.png"), normal);
     let mask: Vec<u8> = (0..RES * RES).map(|k| if normal(k % RES, k / RES).is_some() { 255 } else { 0 }).collect();
     image::GrayImage::from_raw(RES as u32, RES as u32, mask).unwrap().save(dir.join("mask.png")).unwrap();
 }

@@ -170,8 +170,8 @@ fn a_normal_map_render_applies_the_detail_at_its_normals() {
                 continue;
             }
             let want = detail.lookup(DVec2::new(n.x, n.y));
-            for ch in 0..3 {
-                worst = worst.max((a.pixels[k][ch] as f64 / b.pixels[k][ch] as f64 - want[ch]).abs());
+            for (ch, w) in want.iter().enumerate() {
+                worst = worst.max((a.pixels[k][ch] as f64 / b.pixels[k][ch] as f64 - w).abs());
             }
         }
     }
