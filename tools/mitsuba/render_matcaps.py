@@ -9,8 +9,12 @@ a flat grey,
 rendered with Mitsuba's path tracer and written as an 8-bit sRGB PNG with its brightest
 percent at 90% white. OUT/matcaps.json records material, environment and rotation.
 
+`--hdri sky` lights them instead by a uniform sky over a dark ground (1 above the horizon,
+0.02 below), written as OUT/env/sky.exr: the truth a diffuse sphere's light should be read as is
+then the sky's up, turned by the pitch.
+
 Usage (DRJIT_LIBLLVM_PATH pointing at libLLVM 19, see README.md):
-    python render_matcaps.py --hdri ../shared/data/hdri --out DIR [--per-env 10] [--seed 1]
+    python render_matcaps.py --hdri ../shared/data/hdri|sky --out DIR [--per-env 10] [--seed 1]
 """
 
 import argparse
@@ -70,7 +74,14 @@ def main():
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng(a.seed)
-    envs = sorted(Path(a.hdri).glob("*.exr"))
+    if a.hdri == "sky":
+        sky = np.full((128, 256, 3), 0.02, dtype=np.float32)
+        sky[:64] = 1.0
+        (out / "env").mkdir(exist_ok=True)
+        mi.Bitmap(sky).write(str(out / "env" / "sky.exr"))
+        envs = [out / "env" / "sky.exr"]
+    else:
+        envs = sorted(Path(a.hdri).glob("*.exr"))
     record = []
     for env in envs:
         for k in range(a.per_env):
