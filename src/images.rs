@@ -305,7 +305,6 @@ pub fn encode_srgb8(x: f32) -> u8 {
     (linear_to_srgb(x) * 255.0 + 0.5) as u8
 }
 
-
 pub(crate) fn format_name(format: ImageFormat) -> &'static str {
     match format {
         ImageFormat::Png => "PNG",

@@ -218,8 +218,7 @@ fn the_toon_material_keeps_its_tones_on_the_bunny_under_a_moved_light() {
     assert!(dark_share[1] > dark_share[0] + 0.1, "the shadow tone did not follow the light: {dark_share:?}");
 }
 
-/// The picture's colours (sRGB, the disk's pixels, rounded to 1/64) and the sRGB distance
-/// from `c` to the nearest of them.
+/// The picture's colours: the sRGB of the disk's pixels, rounded to 1/64.
 fn palette(lit: &LitSphere) -> Vec<[f64; 3]> {
     let p = &lit.view.painting;
     let mut colours: Vec<[i64; 3]> =
@@ -229,6 +228,7 @@ fn palette(lit: &LitSphere) -> Vec<[f64; 3]> {
     colours.into_iter().map(|c| c.map(|x| x as f64 / 64.0)).collect()
 }
 
+/// The sRGB distance from `c` to the nearest colour of `palette`.
 fn off_palette(c: [f64; 3], palette: &[[f64; 3]]) -> f64 {
     palette.iter().map(|p| (0..3).map(|k| (c[k] - p[k]).powi(2)).sum::<f64>().sqrt()).fold(f64::MAX, f64::min)
 }

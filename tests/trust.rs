@@ -12,6 +12,7 @@ use brdfpaint::scene::{frame, sphere_mesh, Preset, Scene};
 use serde_json::{json, Value};
 
 mod cli_common;
+mod measured_common;
 
 use cli_common::{brdfpaint, Run};
 
@@ -345,38 +346,12 @@ fn truncated_and_corrupt_jpegs_are_refused() {
 /// run peaked at 3.5 GB and aborted under a 4 GB limit.
 #[test]
 fn the_largest_sheet_fits_in_a_gigabyte() {
-    use std::os::unix::process::CommandExt;
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("sheet");
-    let log = std::fs::File::create(dir.path().join("stderr.txt")).unwrap();
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_brdfpaint"));
-    cmd.args(["sheet", "--model", "bunny", "--size", "4096x4096", "--out", s(&out)])
-        .env("BRDFPAINT_CACHE", dir.path())
-        .env("LIBGL_ALWAYS_SOFTWARE", "1")
-        .stdout(Stdio::null())
-        .stderr(log);
-    const ADDRESS_SPACE: libc::rlim_t = 3 << 30;
-    // SAFETY: only async-signal-safe calls between fork and exec.
-    unsafe {
-        cmd.pre_exec(|| {
-            let limit = libc::rlimit { rlim_cur: ADDRESS_SPACE, rlim_max: ADDRESS_SPACE };
-            if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
-                return Err(std::io::Error::last_os_error());
-            }
-            Ok(())
-        });
-    }
-    // Reaped by `wait4` below, which also gives its resource usage.
-    #[allow(clippy::zombie_processes)]
-    let pid = cmd.spawn().unwrap().id() as libc::pid_t;
-    let (mut status, mut usage) = (0, unsafe { std::mem::zeroed::<libc::rusage>() });
-    // SAFETY: waits for our own child (std's handle to it was dropped without waiting).
-    assert_eq!(unsafe { libc::wait4(pid, &mut status, 0, &mut usage) }, pid);
-    let stderr = std::fs::read_to_string(dir.path().join("stderr.txt")).unwrap();
-    assert!(libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0, "sheet failed ({status:#x}): {stderr}");
-    // ru_maxrss is in kilobytes on Linux.
-    let peak = usage.ru_maxrss as u64 * 1024;
-    assert!(peak <= 1 << 30, "a 4096x4096 sheet peaked at {} MiB", peak >> 20);
+    let args = ["sheet", "--model", "bunny", "--size", "4096x4096", "--out", s(&out)];
+    let r = measured_common::run_within(dir.path(), &args, Duration::from_secs(600), 3 << 30);
+    assert_eq!(r.code, 0, "sheet failed: {}", r.stderr);
+    assert!(r.peak_mib < 1024, "a 4096x4096 sheet peaked at {} MiB", r.peak_mib);
     for f in ["outline.png", "page.png", "reference.png", "mask.png"] {
         assert_eq!(image::image_dimensions(out.join(f)).unwrap(), (4096, 4096), "{f}");
     }

@@ -30,6 +30,11 @@ pub const BOMB_PEAK_MIB: u64 = 600;
 /// `limit`, under a 4 GiB address-space limit so that a run that would take gigabytes
 /// fails rather than exhausts the machine. The peak is the kernel's (`wait4`).
 pub fn run(cache: &Path, args: &[&str], limit: Duration) -> Run {
+    run_within(cache, args, limit, 4 << 30)
+}
+
+/// [`run`] under an address-space limit of `address_space` bytes.
+pub fn run_within(cache: &Path, args: &[&str], limit: Duration, address_space: libc::rlim_t) -> Run {
     let dir = tempfile::tempdir().unwrap();
     let (out, err) = (dir.path().join("out"), dir.path().join("err"));
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_brdfpaint"));
@@ -39,11 +44,10 @@ pub fn run(cache: &Path, args: &[&str], limit: Duration) -> Run {
         .stdin(Stdio::null())
         .stdout(std::fs::File::create(&out).unwrap())
         .stderr(std::fs::File::create(&err).unwrap());
-    const ADDRESS_SPACE: libc::rlim_t = 4 << 30;
     // SAFETY: only async-signal-safe calls between fork and exec.
     unsafe {
-        cmd.pre_exec(|| {
-            let limit = libc::rlimit { rlim_cur: ADDRESS_SPACE, rlim_max: ADDRESS_SPACE };
+        cmd.pre_exec(move || {
+            let limit = libc::rlimit { rlim_cur: address_space, rlim_max: address_space };
             if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
                 return Err(std::io::Error::last_os_error());
             }
