@@ -6,12 +6,17 @@ mod cli_common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use brdfpaint::brdf::{Analytic, Reflectance, SphereView};
+use brdfpaint::brdf::{Analytic, Reflectance, SphereView, Striped};
+use brdfpaint::factor::{prepare, Settings};
+use brdfpaint::export::coverage::Directions;
+use brdfpaint::export::{gltf, pbr_fit, pbr_map};
+use brdfpaint::material::map::{self, MapOptions};
+use brdfpaint::material::packed;
 use brdfpaint::images::Painting;
 use brdfpaint::material::packed::split_glb;
 use brdfpaint::material::Material;
 use cli_common::brdfpaint;
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 /// The target's material: glTF base colour, roughness, F0 of a dielectric (issue 38).
 const BASE: [f64; 3] = [0.8, 0.25, 0.1];
@@ -148,6 +153,104 @@ fn a_varnish_brighter_than_core_gltf_exports_khr_materials_specular() {
     assert_eq!(brdfpaint(dir.path(), &["export", core.to_str().unwrap(), "--gltf", core_glb.to_str().unwrap()]).code, 0);
     let (json, _) = split_glb(&std::fs::read(&core_glb).unwrap()).unwrap();
     assert!(json["materials"][0]["extensions"].get("KHR_materials_specular").is_none(), "{}", json["materials"][0]);
+}
+
+/// The images of an exported .glb, decoded, in the order of its `images` array.
+fn images_of(file: &Path) -> Vec<image::RgbImage> {
+    let bytes = std::fs::read(file).unwrap();
+    let (json, _) = split_glb(&bytes).unwrap();
+    // The BIN chunk follows the 12-byte header, the JSON chunk and the BIN chunk's 8-byte header.
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let bin = &bytes[20 + json_len + 8..];
+    json["images"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|im| {
+            let view = &json["bufferViews"][im["bufferView"].as_u64().unwrap() as usize];
+            let offset = view["byteOffset"].as_u64().unwrap() as usize;
+            let len = view["byteLength"].as_u64().unwrap() as usize;
+            image::load_from_memory(&bin[offset..offset + len]).unwrap().into_rgb8()
+        })
+        .collect()
+}
+
+#[test]
+fn a_material_map_exports_a_pbr_material_per_texel() {
+    // The striped object of tests/material_map.rs: glossy dark varnish (Blinn-Phong n = 40)
+    // and matte orange wood (Lambert) in eight bands of u, fitted as a material map, and its
+    // PBR material fitted on the directions its paintings covered.
+    let object = Striped::wood();
+    let (pattern, values, grids) = object.paint(&Striped::painted_views(90));
+    let prepared = prepare(&pattern, &Settings::default()).unwrap();
+    let (material, _) = map::fit(&prepared, &pattern, &values, &grids, &MapOptions::default()).unwrap();
+    let covered = Directions { weights: vec![1.0; pattern.queries.len()], queries: pattern.queries, scenes: Vec::new() };
+    let all = Directions::all();
+    let textured = pbr_map::fit(&material, Some(&covered), &all, pbr_map::resolution(&material));
+    let one = pbr_fit::fit(&material, Some(&covered), &all);
+    eprintln!("per texel {:.4} (all directions {:.4}), one material {:.4}", textured.covered, textured.all, one.covered);
+    // Measured 0.120 per texel and 0.514 for one material: the issue's bar for the demo's
+    // physical materials is 0.15.
+    assert!(textured.covered <= 0.15 && textured.covered < 0.5 * one.covered, "per texel {}, one material {}", textured.covered, one.covered);
+
+    // Each band's texels against the band's true material, on the painted directions a
+    // texel away from the band's edges (where a texture blends the two materials).
+    let res = textured.map.res as f64;
+    for region in 0..2 {
+        let truth = if region == 0 { &object.a } else { &object.b };
+        let inside: Vec<_> = covered.queries.iter().filter(|q| {
+            let e = q.uv.x * 8.0;
+            object.region(q.uv.x) == region && (e - e.round()).abs() / 8.0 > 1.5 / res
+        }).copied().collect();
+        let dirs = Directions { weights: vec![1.0; inside.len()], queries: inside, scenes: Vec::new() };
+        let to_truth = pbr_fit::relative_rms(&textured.map, truth, &dirs);
+        eprintln!("region {region}: per texel vs truth {to_truth:.4} ({} directions)", dirs.len());
+        // Measured 0.115 (the varnish: a Blinn-Phong lobe and a dark diffuse under glTF's
+        // GGX, which chooses a grey metal) and 0.020 (the Lambert wood).
+        let bound = if region == 0 { 0.15 } else { 0.05 };
+        assert!(to_truth <= bound, "region {region}: {to_truth} against its true material");
+    }
+    for band in 0..8 {
+        // Each band's middle, half-way up.
+        let p = textured.map.at(DVec2::new((band as f64 + 0.5) / 8.0, 0.5));
+        eprintln!("band {band}: {p:?}");
+        if object.region((band as f64 + 0.5) / 8.0) == 1 {
+            assert!(p.metallic <= 0.2, "band {band}: {p:?}");
+        } else {
+            // Blinn-Phong n = 40 is GGX of α ≈ sqrt(2 / (n + 2)) = 0.22: roughness √α = 0.47.
+            assert!((p.roughness - 0.47).abs() <= 0.1, "band {band}: {p:?}");
+        }
+    }
+
+    // The .glb holds the map as textures, decoded to the same texels, and is valid.
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("wood.glb");
+    let meshes = brdfpaint::scene::model_meshes(Path::new("sphere")).unwrap();
+    let glb = gltf::Glb { meshes: &meshes, pbr: textured.map.factors(), textures: Some(textured.map.textures().unwrap()), factored: packed::pack(&material).unwrap() };
+    gltf::write(&file, &glb).unwrap();
+    assert_valid(&file);
+    let images = images_of(&file);
+    let n = textured.map.res;
+    assert_eq!((images[0].width() as usize, images[1].height() as usize), (n, n));
+    let srgb = |code: u8| brdfpaint::images::srgb_to_linear(code as f32 / 255.0) as f64;
+    for (k, p) in textured.map.texels.iter().enumerate().step_by(97) {
+        let (x, y) = ((k % n) as u32, (k / n) as u32);
+        let (c, m) = (images[0].get_pixel(x, y), images[1].get_pixel(x, y));
+        assert!((0..3).all(|i| (srgb(c[i]) - p.base_color[i]).abs() < 1e-6), "texel {k}: {c:?} vs {p:?}");
+        assert!((m[1] as f64 / 255.0 - p.roughness).abs() < 1e-6 && (m[2] as f64 / 255.0 - p.metallic).abs() < 1e-6, "texel {k}: {m:?} vs {p:?}");
+    }
+
+    // The command writes the textured material for a saved map (no scenes here: over all
+    // directions) and says what one material would have missed.
+    let mat = dir.path().join("wood");
+    material.save(&mat).unwrap();
+    let out = dir.path().join("cli.glb");
+    let run = brdfpaint(dir.path(), &["export", mat.to_str().unwrap(), "--gltf", out.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stdout.contains("textures, ") && run.stdout.contains("one material for the whole surface would be"), "{}", run.stdout);
+    let (json, _) = split_glb(&std::fs::read(&out).unwrap()).unwrap();
+    assert!(json["materials"][0]["pbrMetallicRoughness"].get("baseColorTexture").is_some(), "{}", json["materials"][0]);
+    assert_valid(&out);
 }
 
 #[test]

@@ -62,8 +62,39 @@ fn gltf(args: &ExportArgs, material: &Material, out: &Path) -> Result<()> {
     let model = args.model.clone().unwrap_or_else(|| PathBuf::from("sphere"));
     let meshes = brdfpaint::scene::model_meshes(&model)?;
     let report = export::export_gltf(&args.material, material, &meshes, out)?;
-    let a = &report.approximation;
-    let p = &a.pbr;
+    let (covered, all) = match &report.textured {
+        Some(t) => {
+            print_textured(&t.map);
+            (t.covered, t.all)
+        }
+        None => {
+            print_uniform(&report.approximation.pbr);
+            (report.approximation.covered, report.approximation.all)
+        }
+    };
+    if report.covered_pairs > 0 {
+        let scenes: Vec<String> = report.scenes.iter().map(|s| s.display().to_string()).collect();
+        println!(
+            "relative RMS against the factored material: {:.4} over the {} direction pairs the paintings covered ({}), {:.4} over all directions",
+            covered,
+            report.covered_pairs,
+            scenes.join(", "),
+            all
+        );
+    } else {
+        println!(
+            "relative RMS against the factored material: {:.4} over all directions (the paintings' scenes were not found, so the covered directions are unknown)",
+            all
+        );
+    }
+    if report.textured.is_some() {
+        println!("(one material for the whole surface would be {:.4} over the same directions)", report.approximation.covered);
+    }
+    println!("wrote {} ({} model, {:.1} KiB, exact material under EXT_brdfpaint_factored)", out.display(), model.display(), report.bytes as f64 / 1024.0);
+    Ok(())
+}
+
+fn print_uniform(p: &export::pbr::Pbr) {
     println!(
         "glTF metallic-roughness: base colour ({:.3}, {:.3}, {:.3}), metallic {:.3}, roughness {:.3}",
         p.base_color[0], p.base_color[1], p.base_color[2], p.metallic, p.roughness
@@ -71,23 +102,28 @@ fn gltf(args: &ExportArgs, material: &Material, out: &Path) -> Result<()> {
     if let Some(k) = p.specular_color() {
         println!("KHR_materials_specular: dielectric F0 {:.3} (specularColorFactor {k:.2}, grey)", p.specular_f0);
     }
-    if report.covered_pairs > 0 {
-        let scenes: Vec<String> = report.scenes.iter().map(|s| s.display().to_string()).collect();
-        println!(
-            "relative RMS against the factored material: {:.4} over the {} direction pairs the paintings covered ({}), {:.4} over all directions",
-            a.covered,
-            report.covered_pairs,
-            scenes.join(", "),
-            a.all
-        );
-    } else {
-        println!(
-            "relative RMS against the factored material: {:.4} over all directions (the paintings' scenes were not found, so the covered directions are unknown)",
-            a.all
-        );
+}
+
+/// A textured material in ranges: the 5th to the 95th percentile over its texels.
+fn print_textured(map: &export::pbr_map::PbrMap) {
+    let range = |f: &dyn Fn(&export::pbr::Pbr) -> f64| {
+        let mut v: Vec<f64> = map.texels.iter().map(f).collect();
+        v.sort_by(f64::total_cmp);
+        let at = |p: f64| v[((v.len() - 1) as f64 * p).round() as usize];
+        format!("{:.3}–{:.3}", at(0.05), at(0.95))
+    };
+    println!(
+        "glTF metallic-roughness textures, {0}×{0} texels (5th–95th percentile): base colour R {1}, G {2}, B {3}; metallic {4}; roughness {5}",
+        map.res,
+        range(&|p| p.base_color[0]),
+        range(&|p| p.base_color[1]),
+        range(&|p| p.base_color[2]),
+        range(&|p| p.metallic),
+        range(&|p| p.roughness)
+    );
+    if map.factors().specular_color().is_some() {
+        println!("KHR_materials_specular: dielectric F0 {}, at most {:.3} (specularColorTexture, grey)", range(&|p| p.specular_f0), map.max_f0());
     }
-    println!("wrote {} ({} model, {:.1} KiB, exact material under EXT_brdfpaint_factored)", out.display(), model.display(), report.bytes as f64 / 1024.0);
-    Ok(())
 }
 
 fn matcap(args: &ExportArgs, material: &Material, out: &Path) -> Result<()> {

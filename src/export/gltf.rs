@@ -25,6 +25,9 @@ pub struct Textures {
     pub base_color: Vec<u8>,
     /// `metallicRoughnessTexture` (linear PNG: roughness in green, metallic in blue).
     pub metallic_roughness: Vec<u8>,
+    /// `KHR_materials_specular`'s `specularColorTexture` (sRGB PNG, grey), when some texel's
+    /// dielectric reflects more than core glTF's.
+    pub specular_color: Option<Vec<u8>>,
 }
 
 /// What one .glb holds.
@@ -104,13 +107,17 @@ fn material(b: &mut Builder, glb: &Glb, images: &mut Vec<Value>, textures: &mut 
         "metallicFactor": p.metallic,
         "roughnessFactor": p.roughness,
     });
+    let mut texture = |png: &[u8]| {
+        let view = b.view(png, None);
+        images.push(json!({ "bufferView": view, "mimeType": "image/png" }));
+        textures.push(json!({ "sampler": 0, "source": images.len() - 1 }));
+        json!({ "index": textures.len() - 1 })
+    };
+    let mut specular_texture = None;
     if let Some(t) = &glb.textures {
-        for (key, png) in [("baseColorTexture", &t.base_color), ("metallicRoughnessTexture", &t.metallic_roughness)] {
-            let view = b.view(png, None);
-            images.push(json!({ "bufferView": view, "mimeType": "image/png" }));
-            textures.push(json!({ "sampler": 0, "source": images.len() - 1 }));
-            pbr[key] = json!({ "index": textures.len() - 1 });
-        }
+        pbr["baseColorTexture"] = texture(&t.base_color);
+        pbr["metallicRoughnessTexture"] = texture(&t.metallic_roughness);
+        specular_texture = t.specular_color.as_deref().map(&mut texture);
     }
     let files: Vec<Value> = glb
         .factored
@@ -123,6 +130,9 @@ fn material(b: &mut Builder, glb: &Glb, images: &mut Vec<Value>, textures: &mut 
     let mut extensions = json!({ EXTENSION: { "version": EXTENSION_VERSION, "files": files } });
     if let Some(k) = p.specular_color() {
         extensions[SPECULAR] = json!({ "specularColorFactor": [k, k, k] });
+        if let Some(t) = specular_texture {
+            extensions[SPECULAR]["specularColorTexture"] = t;
+        }
     }
     json!({ "name": "brdfpaint", "pbrMetallicRoughness": pbr, "extensions": extensions })
 }
@@ -155,8 +165,8 @@ fn document(glb: &Glb) -> (Value, Vec<u8>) {
     if !images.is_empty() {
         doc["images"] = images.into();
         doc["textures"] = textures.into();
-        // Linear filtering with mipmaps, repeat: the glTF defaults, written out.
-        doc["samplers"] = json!([{ "magFilter": 9729, "minFilter": 9987, "wrapS": 10497, "wrapT": 10497 }]);
+        // Linear filtering with mipmaps; clamped at the edges, as the factored material clamps uv.
+        doc["samplers"] = json!([{ "magFilter": 9729, "minFilter": 9987, "wrapS": 33071, "wrapT": 33071 }]);
     }
     (doc, b.bin)
 }

@@ -5,6 +5,7 @@
 //! ```text
 //! Material + its scenes ──coverage──► Directions (covered, all)
 //! Material + Directions ──pbr_fit──► Pbr + relative RMS (covered, all)
+//! varying Material + Directions ──pbr_map──► Pbr per texel (textures) + relative RMS
 //! model meshes + Pbr + packed Material ──gltf──► OUT.glb
 //! Material + light ──matcap──► front-view sphere image (PNG, or EXR with diffuse/specular layers)
 //! ```
@@ -14,6 +15,7 @@ pub mod gltf;
 pub mod matcap;
 pub mod pbr;
 pub mod pbr_fit;
+pub mod pbr_map;
 
 use std::path::Path;
 
@@ -22,11 +24,15 @@ use crate::material::{packed, Material};
 use crate::scene::CpuMesh;
 use coverage::Directions;
 use pbr_fit::Approximation;
+use pbr_map::MapApproximation;
 
 /// What [`export_gltf`] wrote and how close its PBR material is.
 #[derive(Clone, Debug)]
 pub struct GltfReport {
+    /// The one material closest to the whole surface.
     pub approximation: Approximation,
+    /// For a material that varies over the surface, the per-texel material the file holds.
+    pub textured: Option<MapApproximation>,
     /// Direction pairs the covered error is over (0: none known, it is over all directions).
     pub covered_pairs: usize,
     /// The scenes the covered directions came from.
@@ -40,11 +46,16 @@ pub fn export_gltf(material_path: &Path, material: &Material, meshes: &[CpuMesh]
     let covered = Directions::covered(material_path, material);
     let all = Directions::all();
     let approximation = pbr_fit::fit(material, covered.as_ref(), &all);
-    let glb = gltf::Glb { meshes, pbr: approximation.pbr, textures: None, factored: packed::pack(material)? };
+    let textured = material.needs_uv().then(|| pbr_map::fit(material, covered.as_ref(), &all, pbr_map::resolution(material)));
+    let (pbr, textures) = match &textured {
+        Some(t) => (t.map.factors(), Some(t.map.textures()?)),
+        None => (approximation.pbr, None),
+    };
+    let glb = gltf::Glb { meshes, pbr, textures, factored: packed::pack(material)? };
     let bytes = gltf::to_bytes(&glb)?;
     crate::commit::write_atomic(out, &bytes)?;
     let (covered_pairs, scenes) = covered.map_or((0, Vec::new()), |c| (c.len(), c.scenes));
-    Ok(GltfReport { approximation, covered_pairs, scenes, bytes: bytes.len() })
+    Ok(GltfReport { approximation, textured, covered_pairs, scenes, bytes: bytes.len() })
 }
 
 /// The light of the first scene a material's paintings were made in

@@ -101,7 +101,7 @@ fn loss(targets: &[Target], p: &Pbr) -> f64 {
 }
 
 /// `lo`, `lo × ratio`, … up to `hi` (inclusive, within rounding).
-fn f0_grid(lo: f64, hi: f64, ratio: f64) -> Vec<f64> {
+pub(super) fn f0_grid(lo: f64, hi: f64, ratio: f64) -> Vec<f64> {
     let n = ((hi / lo).ln() / ratio.ln() + 1e-9).floor() as usize;
     let mut out: Vec<f64> = (0..=n).map(|i| lo * ratio.powi(i as i32)).collect();
     if out.last().is_some_and(|&x| x < hi * (1.0 - 1e-9)) {
@@ -111,7 +111,7 @@ fn f0_grid(lo: f64, hi: f64, ratio: f64) -> Vec<f64> {
 }
 
 /// `lo`, `lo + step`, … up to `hi` (inclusive, within rounding).
-fn grid(lo: f64, hi: f64, step: f64) -> Vec<f64> {
+pub(super) fn grid(lo: f64, hi: f64, step: f64) -> Vec<f64> {
     let n = ((hi - lo) / step + 1e-9).floor() as usize;
     (0..=n).map(|i| lo + i as f64 * step).collect()
 }
