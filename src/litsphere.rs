@@ -143,7 +143,7 @@ pub fn locate(p: &Painting, name: &str) -> Result<Located> {
     let has_alpha = p.alpha.iter().any(|&a| a < 0.5) && p.alpha.iter().any(|&a| a >= 0.5);
     if has_alpha {
         let mask: Vec<bool> = p.alpha.iter().map(|&a| a >= 0.5).collect();
-        let disk = outline_circle(&mask, w, h, name)?;
+        let disk = outline_circle(&mask, Boundary::Coverage, w, h, name)?;
         let edges = edges::points(std::slice::from_ref(&p.alpha), w, h);
         return Ok(Located { disk, outline: Outline::Alpha, seen: edges::support(&edges, &disk, w, h).seen });
     }
@@ -158,7 +158,7 @@ pub fn locate(p: &Painting, name: &str) -> Result<Located> {
     let background = connected_to_border(&like_border, w, h);
     let mask: Vec<bool> = background.iter().map(|&b| !b).collect();
     let edges = edges::points(&perceptual_channels(p), w, h);
-    let segmented = outline_circle(&mask, w, h, name);
+    let segmented = outline_circle(&mask, Boundary::Key, w, h, name);
     let square = w.abs_diff(h) <= 1;
     let inscribed = Disk { cx: w as f64 / 2.0, cy: h as f64 / 2.0, r: w.min(h) as f64 / 2.0 };
     let by_edges = edge_circle(&edges, w, h, name);
@@ -234,8 +234,20 @@ fn connected_to_border(mask: &[bool], w: usize, h: usize) -> Vec<bool> {
     seen
 }
 
+/// Where a mask's outline lies between its last inside pixel and the first outside one.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Boundary {
+    /// Alpha of half or more: a pixel is in when the shape covers its centre, so the outline
+    /// crosses the segment to the outside centre at a point uniform along it, on average
+    /// its midpoint.
+    Coverage,
+    /// A background colour key: its threshold sits anywhere in the antialiased ramp, and a
+    /// rim as dark as the background falls outside; the last inside centre is the outline.
+    Key,
+}
+
 /// The circle of the one large shape of `mask`.
-fn outline_circle(mask: &[bool], w: usize, h: usize, name: &str) -> Result<Disk> {
+fn outline_circle(mask: &[bool], boundary: Boundary, w: usize, h: usize, name: &str) -> Result<Disk> {
     let (labels, components) = components(mask, w, h);
     let Some(&(largest, area)) = components.iter().max_by_key(|c| c.1) else {
         return Err(Error::input(format!("{name} is all background: no sphere to find")));
@@ -254,9 +266,21 @@ fn outline_circle(mask: &[bool], w: usize, h: usize, name: &str) -> Result<Disk>
     let mut edge = Vec::new();
     for j in 0..h as isize {
         for i in 0..w as isize {
-            if inside(i, j) && !(inside(i - 1, j) && inside(i + 1, j) && inside(i, j - 1) && inside(i, j + 1)) {
-                // The boundary lies half a pixel out from the last inside pixel centre.
-                edge.push(glam::DVec2::new(i as f64 + 0.5, j as f64 + 0.5));
+            if !inside(i, j) {
+                continue;
+            }
+            let centre = glam::DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
+            for step in [glam::DVec2::NEG_X, glam::DVec2::X, glam::DVec2::NEG_Y, glam::DVec2::Y] {
+                if inside(i + step.x as isize, j + step.y as isize) {
+                    continue;
+                }
+                match boundary {
+                    Boundary::Coverage => edge.push(centre + 0.5 * step),
+                    Boundary::Key => {
+                        edge.push(centre);
+                        break;
+                    }
+                }
             }
         }
     }
@@ -698,6 +722,18 @@ mod tests {
             let (found, _) = find_disk(&p, "test").unwrap();
             assert!((found.cx - d.cx).abs() < 1.0 && (found.cy - d.cy).abs() < 1.0, "{found:?} vs {d:?}");
             assert!((found.r - d.r).abs() < 1.0, "{found:?} vs {d:?}");
+        }
+    }
+
+    /// A hard alpha cut (alpha 1 where the disk covers the pixel centre) gives the radius
+    /// to a tenth of a pixel: the inside centres alone read it half a pixel short.
+    #[test]
+    fn a_hard_alpha_cut_gives_the_radius_unbiased() {
+        for d in [Disk { cx: 128.0, cy: 128.0, r: 128.0 }, Disk { cx: 90.3, cy: 101.7, r: 61.2 }, Disk { cx: 40.5, cy: 40.5, r: 20.4 }] {
+            let p = disk_picture(256, 256, d, 1e-6, [0.0; 3], true);
+            let (found, _) = find_disk(&p, "test").unwrap();
+            assert!((found.r - d.r).abs() < 0.1, "{found:?} vs {d:?}");
+            assert!((found.cx - d.cx).abs() < 0.1 && (found.cy - d.cy).abs() < 0.1, "{found:?} vs {d:?}");
         }
     }
 

@@ -323,9 +323,10 @@ fn a_matcap_of_a_lit_sphere_fit_gives_its_picture_back() {
     let fit = Material::load(&mat).unwrap().provenance.errors.unwrap().rms_relative;
     eprintln!("{n} pixels: MatCap against the picture {matcap:.4}, the fit's own {fit:.4}");
     assert!(n > 45_000);
-    // Measured 0.0058 against the fit's own 0.0027 on its samples (read and eroded as the fit
-    // reads them): within a few times the fit's error, not within it.
-    assert!(matcap <= 2.5 * fit + 1e-3, "MatCap {matcap:.4} vs the fit's {fit:.4}");
+    // Measured 0.0023 against the fit's own 0.0022 on its samples (0.0022 over the pixels
+    // three in from the silhouette, about the fit's samples): within the fit's error, give or
+    // take the extra ring of rim pixels.
+    assert!(matcap <= 1.15 * fit, "MatCap {matcap:.4} vs the fit's {fit:.4}");
     let png = dir.path().join("m.png");
     let run = brdfpaint(dir.path(), &["export", mat.to_str().unwrap(), "--matcap", png.to_str().unwrap(), "--light", "0.5,0.2,1", "--size", "64"]);
     assert_eq!(run.code, 0, "{}", run.stderr);
