@@ -102,6 +102,9 @@ fn print_uniform(p: &export::pbr::Pbr) {
     if let Some(k) = p.specular_color() {
         println!("KHR_materials_specular: dielectric F0 {:.3} (specularColorFactor {k:.2}, grey)", p.specular_f0);
     }
+    if let Some(c) = p.coat {
+        println!("KHR_materials_clearcoat: factor {:.3}, roughness {:.3}", c.factor, c.roughness);
+    }
 }
 
 /// A textured material in ranges: the 5th to the 95th percentile over its texels.

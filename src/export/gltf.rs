@@ -134,11 +134,28 @@ fn material(b: &mut Builder, glb: &Glb, images: &mut Vec<Value>, textures: &mut 
             extensions[SPECULAR]["specularColorTexture"] = t;
         }
     }
+    if let Some(c) = p.coat {
+        extensions[CLEARCOAT] = json!({ "clearcoatFactor": c.factor, "clearcoatRoughnessFactor": c.roughness });
+    }
     json!({ "name": "brdfpaint", "pbrMetallicRoughness": pbr, "extensions": extensions })
 }
 
 /// The extension that carries a dielectric $F_0$ above core glTF's 0.04.
 const SPECULAR: &str = "KHR_materials_specular";
+/// The extension that carries a clear coat.
+const CLEARCOAT: &str = "KHR_materials_clearcoat";
+
+/// Our extension, and the Khronos ones the material needs.
+fn extensions_used(p: &Pbr) -> Value {
+    let mut used = vec![EXTENSION];
+    if p.specular_color().is_some() {
+        used.push(SPECULAR);
+    }
+    if p.coat.is_some() {
+        used.push(CLEARCOAT);
+    }
+    json!(used)
+}
 
 /// The document and its binary chunk.
 fn document(glb: &Glb) -> (Value, Vec<u8>) {
@@ -152,7 +169,7 @@ fn document(glb: &Glb) -> (Value, Vec<u8>) {
     let nodes: Vec<Value> = (0..meshes.len()).map(|k| json!({ "mesh": k })).collect();
     let mut doc = json!({
         "asset": { "version": "2.0", "generator": crate::material::TOOL },
-        "extensionsUsed": if glb.pbr.specular_color().is_some() { json!([EXTENSION, SPECULAR]) } else { json!([EXTENSION]) },
+        "extensionsUsed": extensions_used(&glb.pbr),
         "scene": 0,
         "scenes": [{ "nodes": (0..nodes.len()).collect::<Vec<_>>() }],
         "nodes": nodes,

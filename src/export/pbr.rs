@@ -41,12 +41,41 @@ pub struct Pbr {
     /// `KHR_materials_specular` with a grey `specularColorFactor` of $F_0 / 0.04$ and
     /// `specularFactor` 1 (so $F_{90} = 1$, as in core glTF).
     pub specular_f0: f64,
+    /// `KHR_materials_clearcoat`'s layer, when the material has one.
+    pub coat: Option<Coat>,
+}
+
+/// A clear coat (`KHR_materials_clearcoat`): a dielectric layer of index of refraction 1.5
+/// over the material, its own GGX lobe of `roughness` weighted by `factor`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coat {
+    /// `clearcoatFactor`, in [0, 1].
+    pub factor: f64,
+    /// `clearcoatRoughnessFactor`, in [[`MIN_ROUGHNESS`], 1].
+    pub roughness: f64,
 }
 
 impl Pbr {
     /// A core glTF material (no extension).
     pub fn core(base_color: [f64; 3], metallic: f64, roughness: f64) -> Pbr {
-        Pbr { base_color, metallic, roughness, specular_f0: DIELECTRIC_F0 }
+        Pbr { base_color, metallic, roughness, specular_f0: DIELECTRIC_F0, coat: None }
+    }
+
+    /// The shading at `q` as $a + b\,c$ in the base colour $c$ (the material's own base
+    /// colour is not used). A coat of factor $k$ dims the rest by $1 - k F(\mathbf n \cdot
+    /// \mathbf v)$ and adds its own specular lobe, $k F(\mathbf v \cdot \mathbf h)\,\pi
+    /// \cos\theta_l V D$, Schlick's $F$ with $F_0$ 0.04 (`KHR_materials_clearcoat`, as the
+    /// glTF Sample Viewer renders it): still affine in $c$.
+    pub fn affine(&self, q: &Query) -> (f64, f64) {
+        let (a, b) = affine_in_base_color(self.metallic, self.roughness, self.specular_f0, q);
+        let Some(coat) = self.coat else { return (a, b) };
+        if q.l.z <= 0.0 || q.v.z <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let schlick = |x: f64| DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * x;
+        let dim = 1.0 - coat.factor * schlick((1.0 - q.v.z.min(1.0)).powi(5));
+        let (s, x) = specular_shape(q.l, q.v, coat.roughness * coat.roughness);
+        (dim * a + coat.factor * schlick(x) * PI * s, dim * b)
     }
 
     /// `KHR_materials_specular`'s grey `specularColorFactor`, when the material needs it.
@@ -77,7 +106,7 @@ pub fn affine_in_base_color(metallic: f64, roughness: f64, f0: f64, q: &Query) -
 impl Reflectance for Pbr {
     /// $S = \pi f \cos\theta_l$ (module documentation).
     fn shading(&self, q: &Query) -> [f64; 3] {
-        let (a, b) = affine_in_base_color(self.metallic, self.roughness, self.specular_f0, q);
+        let (a, b) = self.affine(q);
         self.base_color.map(|c| a + b * c)
     }
 }
@@ -97,6 +126,23 @@ mod tests {
             let expected = 0.96 * base + 0.04 / 4.0;
             assert!((s[c] - expected).abs() < 1e-9, "channel {c}: {} vs {expected}", s[c]);
         }
+    }
+
+    #[test]
+    fn a_clear_coat_mixes_its_lobe_by_its_fresnel() {
+        // Head-on both Fresnel terms are F0 = 0.04 (k = 1), and the coat's π cos θ_l V D =
+        // π / (π α²) / 4 = 4 at roughness 0.5 (α = 0.25).
+        let base = Pbr::core([0.5, 0.2, 0.1], 0.0, 0.8);
+        let coated = Pbr { coat: Some(Coat { factor: 1.0, roughness: 0.5 }), ..base };
+        let q = Query::at(DVec3::Z, DVec3::Z);
+        let (b, c) = (base.shading(&q), coated.shading(&q));
+        for k in 0..3 {
+            assert!((c[k] - (0.96 * b[k] + 0.04 * 4.0)).abs() < 1e-9, "channel {k}: {} vs {}", c[k], b[k]);
+        }
+        // A coat of factor 0 is no coat.
+        let none = Pbr { coat: Some(Coat { factor: 0.0, roughness: 0.1 }), ..base };
+        let q = Query::at(DVec3::new(0.6, 0.0, 0.8), DVec3::new(-0.3, 0.1, 0.95).normalize());
+        assert_eq!(none.shading(&q), base.shading(&q));
     }
 
     #[test]

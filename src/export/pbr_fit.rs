@@ -2,11 +2,14 @@
 //! the shading over direction pairs ([`super::coverage`]).
 //!
 //! At fixed metallic $m$ and roughness $r$ the shading is affine in the base colour,
-//! $S = a + b\,c$ ([`affine_in_base_color`]), so each channel's $c$ is one weighted linear
+//! $S = a + b\,c$ ([`Pbr::affine`]), so each channel's $c$ is one weighted linear
 //! least-squares solve, clamped to $[0, 1]$. $(m, r)$ are searched on a grid, then on a
 //! grid ten times finer about the best; a dielectric's $F_0$ above core glTF's
 //! (`KHR_materials_specular`) on a geometric grid at $m = 0$, kept only when it lowers the
-//! loss (the grid holds core glTF's 0.04, so the extension never makes a fit worse).
+//! loss (the grid holds core glTF's 0.04, so the extension never makes a fit worse); and a
+//! clear coat (`KHR_materials_clearcoat`, [`super::pbr::Coat`]) over a core base, its factor
+//! and roughness searched with the base's and kept on the same rule. The coat stays affine in
+//! the base colour, so every node still solves its base colour in closed form.
 //!
 //! The loss is the squared relative error on the covered directions alone when they are
 //! known, else on all directions: elsewhere the factored material is extrapolation, and a
@@ -17,7 +20,7 @@ use crate::brdf::Reflectance;
 use crate::factor::Query;
 
 use super::coverage::Directions;
-use super::pbr::{affine_in_base_color, Pbr, DIELECTRIC_F0, MIN_ROUGHNESS};
+use super::pbr::{Coat, Pbr, DIELECTRIC_F0, MIN_ROUGHNESS};
 
 /// Coarse grid steps of roughness and metallic.
 const ROUGHNESS_STEP: f64 = 0.025;
@@ -61,11 +64,57 @@ pub struct Approximation {
 pub fn fit(reference: &dyn Reflectance, covered: Option<&Directions>, all: &Directions) -> Approximation {
     let targets = vec![Target::new(reference, covered.unwrap_or(all), 1.0)];
     let coarse_r: Vec<f64> = grid(MIN_ROUGHNESS, 1.0, ROUGHNESS_STEP);
-    let core = refine(&targets, search(&targets, &coarse_r, &grid(0.0, 1.0, METALLIC_STEP), &[DIELECTRIC_F0]).0);
-    let specular = refine(&targets, search(&targets, &coarse_r, &[0.0], &f0_grid(DIELECTRIC_F0, 1.0, F0_RATIO)).0);
-    let best = if loss(&targets, &specular) < loss(&targets, &core) { specular } else { core };
+    let core = refine(&targets, search(&targets, nodes(&coarse_r, &grid(0.0, 1.0, METALLIC_STEP), &[DIELECTRIC_F0], None)).0);
+    let specular = refine(&targets, search(&targets, nodes(&coarse_r, &[0.0], &f0_grid(DIELECTRIC_F0, 1.0, F0_RATIO), None)).0);
+    let coated = coat(&targets);
+    let best = [specular, coated].into_iter().fold(core, |best, p| if loss(&targets, &p) < loss(&targets, &best) { p } else { best });
     let covered_error = relative_rms(&best, reference, covered.unwrap_or(all));
     Approximation { pbr: best, covered: covered_error, all: relative_rms(&best, reference, all) }
+}
+
+/// Coat factors and roughnesses of the coarse search, and the steps of its refinement: a
+/// coat is a sharp layer over a rougher base, so its roughness is searched up to 0.5.
+const COAT_FACTORS: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
+const COAT_ROUGHNESS_STEP: f64 = 0.05;
+const COAT_FACTOR_STEP: f64 = 0.025;
+
+/// The best material with a clear coat over a core base: coat and base on coarse grids
+/// together (base steps twice [`ROUGHNESS_STEP`] and [`METALLIC_STEP`]), then the base
+/// refined at that coat, the coat refined at that base, and the base again.
+fn coat(targets: &[Target]) -> Pbr {
+    let base_r = grid(MIN_ROUGHNESS, 1.0, 2.0 * ROUGHNESS_STEP);
+    let base_m = grid(0.0, 1.0, 2.0 * METALLIC_STEP);
+    let mut all = Vec::new();
+    for &factor in &COAT_FACTORS {
+        for roughness in grid(MIN_ROUGHNESS, 0.5, COAT_ROUGHNESS_STEP) {
+            all.extend(nodes(&base_r, &base_m, &[DIELECTRIC_F0], Some(Coat { factor, roughness })));
+        }
+    }
+    let mut best = search(targets, all).0;
+    for _ in 0..2 {
+        let r = grid((best.roughness - 2.0 * ROUGHNESS_STEP).max(MIN_ROUGHNESS), (best.roughness + 2.0 * ROUGHNESS_STEP).min(1.0), ROUGHNESS_STEP / 5.0);
+        let m = grid((best.metallic - 2.0 * METALLIC_STEP).max(0.0), (best.metallic + 2.0 * METALLIC_STEP).min(1.0), METALLIC_STEP / 5.0);
+        best = search(targets, nodes(&r, &m, &[DIELECTRIC_F0], best.coat)).0;
+        let c = best.coat.expect("a coated search keeps its coat");
+        let factors = grid((c.factor - 0.125).max(COAT_FACTOR_STEP), (c.factor + 0.125).min(1.0), COAT_FACTOR_STEP);
+        let roughnesses = grid((c.roughness - COAT_ROUGHNESS_STEP).max(MIN_ROUGHNESS), (c.roughness + COAT_ROUGHNESS_STEP).min(1.0), COAT_ROUGHNESS_STEP / 5.0);
+        let coats = factors.iter().flat_map(|&factor| roughnesses.iter().map(move |&roughness| Coat { factor, roughness }));
+        best = search(targets, coats.map(|coat| Pbr { coat: Some(coat), ..best }).collect()).0;
+    }
+    best
+}
+
+/// Every combination of roughness, metallic and $F_0$, with `coat` (base colour unset).
+fn nodes(roughness: &[f64], metallic: &[f64], f0: &[f64], coat: Option<Coat>) -> Vec<Pbr> {
+    let mut out = Vec::with_capacity(roughness.len() * metallic.len() * f0.len());
+    for &r in roughness {
+        for &m in metallic {
+            for &f in f0 {
+                out.push(Pbr { base_color: [0.0; 3], metallic: m, roughness: r, specular_f0: f, coat });
+            }
+        }
+    }
+    out
 }
 
 /// Relative RMS of `pbr` against `reference` over weighted directions.
@@ -87,16 +136,20 @@ fn refine(targets: &[Target], coarse: Pbr) -> Pbr {
     let r = grid((coarse.roughness - ROUGHNESS_STEP).max(MIN_ROUGHNESS), (coarse.roughness + ROUGHNESS_STEP).min(1.0), ROUGHNESS_STEP / 10.0);
     if coarse.specular_f0 > DIELECTRIC_F0 {
         let f0 = f0_grid((coarse.specular_f0 / F0_RATIO).max(DIELECTRIC_F0), (coarse.specular_f0 * F0_RATIO).min(1.0), F0_RATIO.powf(0.2));
-        return search(targets, &r, &[coarse.metallic], &f0).0;
+        return search(targets, nodes(&r, &[coarse.metallic], &f0, coarse.coat)).0;
     }
     let m = grid((coarse.metallic - METALLIC_STEP).max(0.0), (coarse.metallic + METALLIC_STEP).min(1.0), METALLIC_STEP / 10.0);
-    search(targets, &r, &m, &[coarse.specular_f0]).0
+    search(targets, nodes(&r, &m, &[coarse.specular_f0], coarse.coat)).0
+}
+
+/// Each target's $(a, b)$ at `p` ([`Pbr::affine`]).
+fn parts(targets: &[Target], p: &Pbr) -> Vec<Vec<(f64, f64)>> {
+    targets.iter().map(|t| t.queries.iter().map(|q| p.affine(q)).collect()).collect()
 }
 
 /// The loss of a material over the targets.
 fn loss(targets: &[Target], p: &Pbr) -> f64 {
-    let parts: Vec<Vec<(f64, f64)>> =
-        targets.iter().map(|t| t.queries.iter().map(|q| affine_in_base_color(p.metallic, p.roughness, p.specular_f0, q)).collect()).collect();
+    let parts = parts(targets, p);
     (0..3).map(|c| channel_loss(targets, &parts, c, p.base_color[c])).sum()
 }
 
@@ -116,23 +169,17 @@ pub(super) fn grid(lo: f64, hi: f64, step: f64) -> Vec<f64> {
     (0..=n).map(|i| lo + i as f64 * step).collect()
 }
 
-/// The best material over a grid of roughness, metallic and dielectric $F_0$, and its loss.
-fn search(targets: &[Target], roughness: &[f64], metallic: &[f64], f0: &[f64]) -> (Pbr, f64) {
-    let mut best = (Pbr::core([0.5; 3], 0.0, 1.0), f64::INFINITY);
-    for &r in roughness {
-        for &m in metallic {
-            for &f in f0 {
-                let parts: Vec<Vec<(f64, f64)>> =
-                    targets.iter().map(|t| t.queries.iter().map(|q| affine_in_base_color(m, r, f, q)).collect()).collect();
-                let base_color = [0, 1, 2].map(|c| solve_channel(targets, &parts, c));
-                let loss: f64 = (0..3).map(|c| channel_loss(targets, &parts, c, base_color[c])).sum();
-                if loss < best.1 {
-                    best = (Pbr { base_color, metallic: m, roughness: r, specular_f0: f }, loss);
-                }
-            }
-        }
-    }
-    best
+/// The best of `nodes` with its best base colour, and its loss.
+fn search(targets: &[Target], nodes: Vec<Pbr>) -> (Pbr, f64) {
+    use rayon::prelude::*;
+    let scored = nodes.into_par_iter().map(|node| {
+        let parts = parts(targets, &node);
+        let base_color = [0, 1, 2].map(|c| solve_channel(targets, &parts, c));
+        let loss: f64 = (0..3).map(|c| channel_loss(targets, &parts, c, base_color[c])).sum();
+        (Pbr { base_color, ..node }, loss)
+    });
+    // Ties go to the first node, as a sequential search would.
+    scored.reduce(|| (Pbr::core([0.5; 3], 0.0, 1.0), f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a })
 }
 
 /// Channel `c`'s base colour: $\sum w b (S - a) / \sum w b^2$, clamped to $[0, 1]$.
@@ -178,12 +225,24 @@ mod tests {
     #[test]
     fn recovers_a_dielectric_brighter_than_core_gltf_allows() {
         // A varnish-like F0 of 0.2 (index of refraction about 2.6): KHR_materials_specular.
-        let truth = Pbr { base_color: [0.1, 0.3, 0.6], metallic: 0.0, roughness: 0.3, specular_f0: 0.2 };
+        let truth = Pbr { base_color: [0.1, 0.3, 0.6], metallic: 0.0, roughness: 0.3, specular_f0: 0.2, coat: None };
         let a = fit(&truth, None, &Directions::all());
         assert!(a.pbr.metallic < 0.02 && (a.pbr.roughness - 0.3).abs() < 0.02, "{:?}", a.pbr);
         assert!((a.pbr.specular_f0 / 0.2 - 1.0).abs() < 0.1, "{:?}", a.pbr);
         assert!((a.pbr.specular_color().unwrap() - 5.0).abs() < 0.5, "{:?}", a.pbr);
         assert!(a.all < 0.02, "{}", a.all);
+    }
+
+    #[test]
+    fn recovers_a_clear_coat_over_a_rough_base() {
+        let truth = Pbr { coat: Some(Coat { factor: 0.8, roughness: 0.1 }), ..Pbr::core([0.6, 0.1, 0.05], 0.0, 0.7) };
+        let a = fit(&truth, None, &Directions::all());
+        let c = a.pbr.coat.expect("a coat");
+        assert!((c.factor - 0.8).abs() < 0.1 && (c.roughness - 0.1).abs() < 0.03, "{:?}", a.pbr);
+        assert!((a.pbr.roughness - 0.7).abs() < 0.05 && a.pbr.metallic < 0.05, "{:?}", a.pbr);
+        assert!(a.all < 0.02, "{}", a.all);
+        // Without a coat in the truth, none is written.
+        assert_eq!(fit(&Pbr::core([0.6, 0.1, 0.05], 0.0, 0.7), None, &Directions::all()).pbr.coat, None);
     }
 
     #[test]
