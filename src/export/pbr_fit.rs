@@ -78,9 +78,14 @@ const COAT_FACTORS: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
 const COAT_ROUGHNESS_STEP: f64 = 0.05;
 const COAT_FACTOR_STEP: f64 = 0.025;
 
+/// Coarse coated materials refined: a sharp coat over a rough base and a sharp base under a
+/// rough coat can draw the same highlight under one light, so several are followed.
+const COAT_CANDIDATES: usize = 6;
+
 /// The best material with a clear coat over a core base: coat and base on coarse grids
-/// together (base steps twice [`ROUGHNESS_STEP`] and [`METALLIC_STEP`]), then the base
-/// refined at that coat, the coat refined at that base, and the base again.
+/// together (base steps twice [`ROUGHNESS_STEP`] and [`METALLIC_STEP`]); then, from each of
+/// the [`COAT_CANDIDATES`] best, the base refined at its coat and the coat at that base,
+/// in turn, four times.
 fn coat(targets: &[Target]) -> Pbr {
     let base_r = grid(MIN_ROUGHNESS, 1.0, 2.0 * ROUGHNESS_STEP);
     let base_m = grid(0.0, 1.0, 2.0 * METALLIC_STEP);
@@ -90,8 +95,14 @@ fn coat(targets: &[Target]) -> Pbr {
             all.extend(nodes(&base_r, &base_m, &[DIELECTRIC_F0], Some(Coat { factor, roughness })));
         }
     }
-    let mut best = search(targets, all).0;
-    for _ in 0..2 {
+    let refined = ranked(targets, all).into_iter().take(COAT_CANDIDATES).map(|(start, _)| refine_coated(targets, start));
+    refined.min_by(|a, b| a.1.total_cmp(&b.1)).map_or(Pbr::core([0.5; 3], 0.0, 1.0), |(p, _)| p)
+}
+
+/// A coated material refined from `start` ([`coat`]), and its loss.
+fn refine_coated(targets: &[Target], start: Pbr) -> (Pbr, f64) {
+    let mut best = start;
+    for _ in 0..4 {
         let r = grid((best.roughness - 2.0 * ROUGHNESS_STEP).max(MIN_ROUGHNESS), (best.roughness + 2.0 * ROUGHNESS_STEP).min(1.0), ROUGHNESS_STEP / 5.0);
         let m = grid((best.metallic - 2.0 * METALLIC_STEP).max(0.0), (best.metallic + 2.0 * METALLIC_STEP).min(1.0), METALLIC_STEP / 5.0);
         best = search(targets, nodes(&r, &m, &[DIELECTRIC_F0], best.coat)).0;
@@ -101,7 +112,7 @@ fn coat(targets: &[Target]) -> Pbr {
         let coats = factors.iter().flat_map(|&factor| roughnesses.iter().map(move |&roughness| Coat { factor, roughness }));
         best = search(targets, coats.map(|coat| Pbr { coat: Some(coat), ..best }).collect()).0;
     }
-    best
+    (best, loss(targets, &best))
 }
 
 /// Every combination of roughness, metallic and $F_0$, with `coat` (base colour unset).
@@ -171,15 +182,29 @@ pub(super) fn grid(lo: f64, hi: f64, step: f64) -> Vec<f64> {
 
 /// The best of `nodes` with its best base colour, and its loss.
 fn search(targets: &[Target], nodes: Vec<Pbr>) -> (Pbr, f64) {
-    use rayon::prelude::*;
-    let scored = nodes.into_par_iter().map(|node| {
-        let parts = parts(targets, &node);
-        let base_color = [0, 1, 2].map(|c| solve_channel(targets, &parts, c));
-        let loss: f64 = (0..3).map(|c| channel_loss(targets, &parts, c, base_color[c])).sum();
-        (Pbr { base_color, ..node }, loss)
-    });
     // Ties go to the first node, as a sequential search would.
-    scored.reduce(|| (Pbr::core([0.5; 3], 0.0, 1.0), f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a })
+    scored(targets, nodes).into_iter().fold((Pbr::core([0.5; 3], 0.0, 1.0), f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a })
+}
+
+/// `nodes` with their best base colours, least loss first.
+fn ranked(targets: &[Target], nodes: Vec<Pbr>) -> Vec<(Pbr, f64)> {
+    let mut out = scored(targets, nodes);
+    out.sort_by(|a, b| a.1.total_cmp(&b.1));
+    out
+}
+
+/// Each node with its best base colour and its loss, in the nodes' order.
+fn scored(targets: &[Target], nodes: Vec<Pbr>) -> Vec<(Pbr, f64)> {
+    use rayon::prelude::*;
+    nodes
+        .into_par_iter()
+        .map(|node| {
+            let parts = parts(targets, &node);
+            let base_color = [0, 1, 2].map(|c| solve_channel(targets, &parts, c));
+            let loss: f64 = (0..3).map(|c| channel_loss(targets, &parts, c, base_color[c])).sum();
+            (Pbr { base_color, ..node }, loss)
+        })
+        .collect()
 }
 
 /// Channel `c`'s base colour: $\sum w b (S - a) / \sum w b^2$, clamped to $[0, 1]$.
