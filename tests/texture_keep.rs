@@ -4,6 +4,8 @@
 //! [`Detail::lookup`] reads it. The paintings are MyPaint's (tools/mypaint: real brush
 //! presets on scanned paper), of models the detail's constants were not chosen on.
 
+mod cli_common;
+
 use std::path::Path;
 
 use brdfpaint::gl::HeadlessContext;
@@ -73,6 +75,14 @@ fn the_detail_is_stored_with_the_material() {
     without_detail(&loaded).save(&plain).unwrap();
     assert!(!plain.join("detail.exr").exists());
     assert_eq!(Material::load(&plain).unwrap().detail, None);
+
+    // Exported to glTF, the detail travels with the exact material, and the command says the
+    // PBR material cannot carry it.
+    let glb = dir.path().join("kept.glb");
+    let run = cli_common::brdfpaint(dir.path(), &["export", out.to_str().unwrap(), "--gltf", glb.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stdout.contains("brush texture"), "{}", run.stdout);
+    assert_eq!(Material::load(&glb).unwrap().detail, lit.fitted.material.detail);
 }
 
 /// The shader reads the detail where [`Detail::lookup`] does: the lit sphere's own scene

@@ -90,6 +90,9 @@ fn gltf(args: &ExportArgs, material: &Material, out: &Path) -> Result<()> {
     if report.textured.is_some() {
         println!("(one material for the whole surface would be {:.4} over the same directions)", report.approximation.covered);
     }
+    if material.detail.is_some() {
+        println!("note: the painting's brush texture (fit --texture keep) travels with the exact material only: glTF's materials have no detail that follows the view");
+    }
     println!("wrote {} ({} model, {:.1} KiB, exact material under EXT_brdfpaint_factored)", out.display(), model.display(), report.bytes as f64 / 1024.0);
     Ok(())
 }
