@@ -307,6 +307,47 @@ fn a_coated_lit_sphere_exports_khr_materials_clearcoat() {
 }
 
 #[test]
+fn a_velvet_lit_sphere_exports_khr_materials_sheen() {
+    // The analytic velvet (Lambert and the Charlie sheen lobe) drawn as a lit sphere in
+    // painter units: pixel = π × its shading.
+    let velvet = Analytic::Velvet { diffuse: [0.30, 0.05, 0.12], sheen: [0.30, 0.15, 0.25], roughness: 0.35 };
+    let res = 256;
+    let mut p = Painting::opaque(res, res, vec![[0.0; 3]; res * res]).unwrap();
+    p.alpha = vec![0.0; res * res];
+    let light = DVec3::from_array(LIGHT).normalize();
+    for j in 0..res {
+        for i in 0..res {
+            let (x, y) = (2.0 * (i as f64 + 0.5) / res as f64 - 1.0, 1.0 - 2.0 * (j as f64 + 0.5) / res as f64);
+            let rr = x * x + y * y;
+            if rr < 1.0 {
+                let q = SphereView::query(DVec3::new(x, y, (1.0 - rr).sqrt()), light, DVec3::Z);
+                p.pixels[j * res + i] = velvet.shading(&q).map(|x| (std::f64::consts::PI * x) as f32);
+                p.alpha[j * res + i] = 1.0;
+            }
+        }
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("velvet.png");
+    std::fs::write(&png, p.encode_png16().unwrap()).unwrap();
+    let mat = dir.path().join("mat");
+    let l = format!("{},{},{}", LIGHT[0], LIGHT[1], LIGHT[2]);
+    let run = brdfpaint(dir.path(), &["fit", "--lit-sphere", png.to_str().unwrap(), "--light", &l, "--out", mat.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let glb = dir.path().join("velvet.glb");
+    let run = brdfpaint(dir.path(), &["export", mat.to_str().unwrap(), "--gltf", glb.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    eprintln!("{}", run.stdout);
+    let (json, _) = split_glb(&std::fs::read(&glb).unwrap()).unwrap();
+    let sheen = &json["materials"][0]["extensions"]["KHR_materials_sheen"];
+    let colour: Vec<f64> = sheen["sheenColorFactor"].as_array().map_or(Vec::new(), |a| a.iter().map(|x| x.as_f64().unwrap()).collect());
+    // The sheen keeps the velvet's hue: red over blue over green.
+    assert!(colour.len() == 3 && colour[0] > colour[2] && colour[2] > colour[1], "sheen {sheen}\n{}", run.stdout);
+    assert!(json["extensionsUsed"].as_array().unwrap().iter().any(|e| e == "KHR_materials_sheen"));
+    assert!(reported(&run.stdout, "factored material:") <= 0.1, "{}", run.stdout);
+    assert_valid(&glb);
+}
+
+#[test]
 fn export_onto_a_model_file_renders_its_exact_material() {
     let dir = tempfile::tempdir().unwrap();
     let (_, mat) = fitted_sphere(dir.path());

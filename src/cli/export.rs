@@ -108,6 +108,9 @@ fn print_uniform(p: &export::pbr::Pbr) {
     if let Some(c) = p.coat {
         println!("KHR_materials_clearcoat: factor {:.3}, roughness {:.3}", c.factor, c.roughness);
     }
+    if let Some(s) = p.sheen {
+        println!("KHR_materials_sheen: colour ({:.3}, {:.3}, {:.3}), roughness {:.3}", s.color[0], s.color[1], s.color[2], s.roughness);
+    }
 }
 
 /// A textured material in ranges: the 5th to the 95th percentile over its texels.

@@ -137,6 +137,9 @@ fn material(b: &mut Builder, glb: &Glb, images: &mut Vec<Value>, textures: &mut 
     if let Some(c) = p.coat {
         extensions[CLEARCOAT] = json!({ "clearcoatFactor": c.factor, "clearcoatRoughnessFactor": c.roughness });
     }
+    if let Some(sh) = p.sheen {
+        extensions[SHEEN] = json!({ "sheenColorFactor": sh.color, "sheenRoughnessFactor": sh.roughness });
+    }
     json!({ "name": "brdfpaint", "pbrMetallicRoughness": pbr, "extensions": extensions })
 }
 
@@ -144,6 +147,8 @@ fn material(b: &mut Builder, glb: &Glb, images: &mut Vec<Value>, textures: &mut 
 const SPECULAR: &str = "KHR_materials_specular";
 /// The extension that carries a clear coat.
 const CLEARCOAT: &str = "KHR_materials_clearcoat";
+/// The extension that carries a sheen.
+const SHEEN: &str = "KHR_materials_sheen";
 
 /// Our extension, and the Khronos ones the material needs.
 fn extensions_used(p: &Pbr) -> Value {
@@ -153,6 +158,9 @@ fn extensions_used(p: &Pbr) -> Value {
     }
     if p.coat.is_some() {
         used.push(CLEARCOAT);
+    }
+    if p.sheen.is_some() {
+        used.push(SHEEN);
     }
     json!(used)
 }

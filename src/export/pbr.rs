@@ -19,6 +19,7 @@ use std::f64::consts::PI;
 use crate::brdf::lobe::specular_shape;
 use crate::brdf::Reflectance;
 use crate::factor::Query;
+use glam::DVec3;
 
 /// Schlick's $F_0$ of a glTF dielectric (index of refraction 1.5): $((1.5 - 1)/(1.5 + 1))^2$.
 pub const DIELECTRIC_F0: f64 = 0.04;
@@ -43,6 +44,98 @@ pub struct Pbr {
     pub specular_f0: f64,
     /// `KHR_materials_clearcoat`'s layer, when the material has one.
     pub coat: Option<Coat>,
+    /// `KHR_materials_sheen`'s layer, when the material has one.
+    pub sheen: Option<Sheen>,
+}
+
+/// A sheen (`KHR_materials_sheen`): cloth's retro-reflection at grazing angles, the Charlie
+/// distribution of Estevez and Kulla, $D = (2 + 1/\alpha)\sin^{1/\alpha}\theta_h / 2\pi$ with
+/// $\alpha$ = roughness², and Neubelt and Pettineo's visibility $V = 1 / (4(\cos\theta_l +
+/// \cos\theta_v - \cos\theta_l\cos\theta_v))$ (the extension's simpler choice, and the
+/// analytic velvet's). The rest is dimmed by its albedo, $1 - \max(\text{colour})\,
+/// E(\cos)$, the smaller at the light and at the view (as the glTF Sample Viewer does).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sheen {
+    /// `sheenColorFactor`, linear, in [0, 1].
+    pub color: [f64; 3],
+    /// `sheenRoughnessFactor`, in [[`MIN_SHEEN_ROUGHNESS`], 1].
+    pub roughness: f64,
+}
+
+/// The smallest sheen roughness a fit gives: $\alpha = 0.07^2$ makes $D$'s exponent 200.
+pub const MIN_SHEEN_ROUGHNESS: f64 = 0.07;
+
+impl Sheen {
+    /// $\pi \cos\theta_l D V$ at unit colour: the sheen's shading per unit `color`.
+    pub fn shape(roughness: f64, q: &Query) -> f64 {
+        let (cl, cv) = (q.l.z, q.v.z);
+        if cl <= 0.0 || cv <= 0.0 {
+            return 0.0;
+        }
+        PI * cl * charlie_d(roughness, (q.l + q.v).normalize().z) * neubelt_v(cl, cv)
+    }
+
+    /// The factor the rest of the material is dimmed by at `q` (type documentation).
+    pub fn dimming(&self, q: &Query) -> f64 {
+        let m = self.color.iter().fold(0.0f64, |a, &b| a.max(b));
+        1.0 - m * albedo(self.roughness, q.l.z).max(albedo(self.roughness, q.v.z))
+    }
+}
+
+fn charlie_d(roughness: f64, cos_h: f64) -> f64 {
+    let inv = 1.0 / (roughness * roughness).max(1e-3);
+    let sin_h = (1.0 - cos_h * cos_h).max(0.0).sqrt();
+    (2.0 + inv) * sin_h.powf(inv) / (2.0 * PI)
+}
+
+fn neubelt_v(cl: f64, cv: f64) -> f64 {
+    1.0 / (4.0 * (cl + cv - cl * cv))
+}
+
+/// Nodes of the sheen's directional-albedo table: roughness and cosine.
+const ALBEDO_ROUGHNESS: usize = 32;
+const ALBEDO_COSINES: usize = 32;
+
+/// The sheen's directional albedo $E(\mu) = \int D V \cos\theta_l\, d\omega_l$ at view
+/// cosine $\mu$ (white colour), from a table integrated once (bilinear between nodes).
+fn albedo(roughness: f64, mu: f64) -> f64 {
+    static TABLE: std::sync::OnceLock<Vec<f64>> = std::sync::OnceLock::new();
+    let table = TABLE.get_or_init(|| {
+        let mut t = Vec::with_capacity(ALBEDO_ROUGHNESS * ALBEDO_COSINES);
+        for i in 0..ALBEDO_ROUGHNESS {
+            let r = i as f64 / (ALBEDO_ROUGHNESS - 1) as f64;
+            for j in 0..ALBEDO_COSINES {
+                t.push(integrate_albedo(r.max(MIN_SHEEN_ROUGHNESS), (j as f64 / (ALBEDO_COSINES - 1) as f64).max(1e-3)));
+            }
+        }
+        t
+    });
+    let at = |x: f64, n: usize| {
+        let x = x.clamp(0.0, 1.0) * (n - 1) as f64;
+        let i = (x.floor() as usize).min(n - 2);
+        (i, x - i as f64)
+    };
+    let ((i, fr), (j, fm)) = (at(roughness, ALBEDO_ROUGHNESS), at(mu, ALBEDO_COSINES));
+    let v = |i: usize, j: usize| table[i * ALBEDO_COSINES + j];
+    (1.0 - fr) * ((1.0 - fm) * v(i, j) + fm * v(i, j + 1)) + fr * ((1.0 - fm) * v(i + 1, j) + fm * v(i + 1, j + 1))
+}
+
+/// $E(\mu)$ by the midpoint rule, uniform in $\cos\theta_l$ and azimuth ($d\omega = d\mu\,
+/// d\varphi$).
+fn integrate_albedo(roughness: f64, mu: f64) -> f64 {
+    const N: usize = 96;
+    let v = DVec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+    let mut sum = 0.0;
+    for a in 0..N {
+        let cl = (a as f64 + 0.5) / N as f64;
+        let sl = (1.0 - cl * cl).sqrt();
+        for b in 0..2 * N {
+            let phi = PI * (b as f64 + 0.5) / N as f64;
+            let l = DVec3::new(sl * phi.cos(), sl * phi.sin(), cl);
+            sum += charlie_d(roughness, (l + v).normalize().z) * neubelt_v(cl, mu) * cl;
+        }
+    }
+    sum * (1.0 / N as f64) * (PI / N as f64)
 }
 
 /// A clear coat (`KHR_materials_clearcoat`): a dielectric layer of index of refraction 1.5
@@ -58,7 +151,7 @@ pub struct Coat {
 impl Pbr {
     /// A core glTF material (no extension).
     pub fn core(base_color: [f64; 3], metallic: f64, roughness: f64) -> Pbr {
-        Pbr { base_color, metallic, roughness, specular_f0: DIELECTRIC_F0, coat: None }
+        Pbr { base_color, metallic, roughness, specular_f0: DIELECTRIC_F0, coat: None, sheen: None }
     }
 
     /// The shading at `q` as $a + b\,c$ in the base colour $c$ (the material's own base
@@ -66,7 +159,16 @@ impl Pbr {
     /// \mathbf v)$ and adds its own specular lobe, $k F(\mathbf v \cdot \mathbf h)\,\pi
     /// \cos\theta_l V D$, Schlick's $F$ with $F_0$ 0.04 (`KHR_materials_clearcoat`, as the
     /// glTF Sample Viewer renders it): still affine in $c$.
+    /// A sheen dims this part by [`Sheen::dimming`] and adds its own, channel by channel
+    /// ([`Pbr::shading`]).
     pub fn affine(&self, q: &Query) -> (f64, f64) {
+        let (a, b) = self.coated(q);
+        let k = self.sheen.map_or(1.0, |s| s.dimming(q));
+        (k * a, k * b)
+    }
+
+    /// [`Pbr::affine`] without the sheen.
+    fn coated(&self, q: &Query) -> (f64, f64) {
         let (a, b) = affine_in_base_color(self.metallic, self.roughness, self.specular_f0, q);
         let Some(coat) = self.coat else { return (a, b) };
         if q.l.z <= 0.0 || q.v.z <= 0.0 {
@@ -107,7 +209,8 @@ impl Reflectance for Pbr {
     /// $S = \pi f \cos\theta_l$ (module documentation).
     fn shading(&self, q: &Query) -> [f64; 3] {
         let (a, b) = self.affine(q);
-        self.base_color.map(|c| a + b * c)
+        let sheen = self.sheen.map_or([0.0; 3], |s| s.color.map(|c| c * Sheen::shape(s.roughness, q)));
+        [0, 1, 2].map(|c| a + b * self.base_color[c] + sheen[c])
     }
 }
 

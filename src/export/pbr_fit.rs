@@ -9,7 +9,9 @@
 //! loss (the grid holds core glTF's 0.04, so the extension never makes a fit worse); and a
 //! clear coat (`KHR_materials_clearcoat`, [`super::pbr::Coat`]) over a core base, its factor
 //! and roughness searched with the base's and kept on the same rule. The coat stays affine in
-//! the base colour, so every node still solves its base colour in closed form.
+//! the base colour, so every node still solves its base colour in closed form. A sheen
+//! (`KHR_materials_sheen`, cloth) over a dielectric base the same way, its colour solved with
+//! the base colour per channel (two unknowns, [`box_least_squares`]).
 //!
 //! The loss is the squared relative error on the covered directions alone when they are
 //! known, else on all directions: elsewhere the factored material is extrapolation, and a
@@ -20,7 +22,7 @@ use crate::brdf::Reflectance;
 use crate::factor::Query;
 
 use super::coverage::Directions;
-use super::pbr::{Coat, Pbr, DIELECTRIC_F0, MIN_ROUGHNESS};
+use super::pbr::{Coat, Pbr, Sheen, DIELECTRIC_F0, MIN_ROUGHNESS, MIN_SHEEN_ROUGHNESS};
 
 /// Coarse grid steps of roughness and metallic.
 const ROUGHNESS_STEP: f64 = 0.025;
@@ -67,7 +69,8 @@ pub fn fit(reference: &dyn Reflectance, covered: Option<&Directions>, all: &Dire
     let core = refine(&targets, search(&targets, nodes(&coarse_r, &grid(0.0, 1.0, METALLIC_STEP), &[DIELECTRIC_F0], None)).0);
     let specular = refine(&targets, search(&targets, nodes(&coarse_r, &[0.0], &f0_grid(DIELECTRIC_F0, 1.0, F0_RATIO), None)).0);
     let coated = coat(&targets);
-    let best = [specular, coated].into_iter().fold(core, |best, p| if loss(&targets, &p) < loss(&targets, &best) { p } else { best });
+    let sheened = sheen(&targets);
+    let best = [specular, coated, sheened].into_iter().fold(core, |best, p| if loss(&targets, &p) < loss(&targets, &best) { p } else { best });
     let covered_error = relative_rms(&best, reference, covered.unwrap_or(all));
     Approximation { pbr: best, covered: covered_error, all: relative_rms(&best, reference, all) }
 }
@@ -115,13 +118,129 @@ fn refine_coated(targets: &[Target], start: Pbr) -> (Pbr, f64) {
     (best, loss(targets, &best))
 }
 
+/// Sheen strengths (the colour's largest channel, which sets how much the rest is dimmed)
+/// and roughnesses of the coarse sheen search.
+const SHEEN_STRENGTHS: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
+const SHEEN_ROUGHNESS_STEP: f64 = 0.1;
+/// Coarse sheened materials refined (as [`COAT_CANDIDATES`]).
+const SHEEN_CANDIDATES: usize = 3;
+
+/// A dielectric base under a sheen, before its colours are solved.
+#[derive(Clone, Copy)]
+struct SheenNode {
+    roughness: f64,
+    sheen_roughness: f64,
+    strength: f64,
+}
+
+/// The best material with a sheen over a dielectric base (cloth): base roughness, sheen
+/// roughness and strength on coarse grids, then from each of the [`SHEEN_CANDIDATES`] best,
+/// the base refined at its sheen and the sheen at that base, in turn, three times. The base
+/// colour and the sheen colour are solved together per channel at each node.
+fn sheen(targets: &[Target]) -> Pbr {
+    let mut coarse = Vec::new();
+    for roughness in grid(MIN_ROUGHNESS, 1.0, 2.0 * ROUGHNESS_STEP) {
+        for sheen_roughness in grid(SHEEN_ROUGHNESS_STEP, 1.0, SHEEN_ROUGHNESS_STEP) {
+            for &strength in &SHEEN_STRENGTHS {
+                coarse.push(SheenNode { roughness, sheen_roughness, strength });
+            }
+        }
+    }
+    let mut ranked = sheen_scored(targets, coarse);
+    ranked.sort_by(|a, b| a.2.total_cmp(&b.2));
+    let refined = ranked.into_iter().take(SHEEN_CANDIDATES).map(|(node, _, _)| {
+        let mut best = node;
+        for _ in 0..3 {
+            let r = grid((best.roughness - 2.0 * ROUGHNESS_STEP).max(MIN_ROUGHNESS), (best.roughness + 2.0 * ROUGHNESS_STEP).min(1.0), ROUGHNESS_STEP / 5.0);
+            best = sheen_best(targets, r.iter().map(|&roughness| SheenNode { roughness, ..best }).collect()).0;
+            let rs = grid((best.sheen_roughness - SHEEN_ROUGHNESS_STEP).max(MIN_SHEEN_ROUGHNESS), (best.sheen_roughness + SHEEN_ROUGHNESS_STEP).min(1.0), SHEEN_ROUGHNESS_STEP / 10.0);
+            let k = grid((best.strength - 0.125).max(0.025), (best.strength + 0.125).min(1.0), 0.025);
+            let nodes = rs.iter().flat_map(|&sheen_roughness| k.iter().map(move |&strength| SheenNode { sheen_roughness, strength, ..best })).collect();
+            best = sheen_best(targets, nodes).0;
+        }
+        sheen_best(targets, vec![best]).1
+    });
+    refined.min_by(|a, b| loss(targets, a).total_cmp(&loss(targets, b))).unwrap_or(Pbr::core([0.5; 3], 0.0, 1.0))
+}
+
+/// The node of least loss among `nodes`, and its material.
+fn sheen_best(targets: &[Target], nodes: Vec<SheenNode>) -> (SheenNode, Pbr) {
+    let scored = sheen_scored(targets, nodes);
+    let best = scored.into_iter().fold(None, |a: Option<(SheenNode, Pbr, f64)>, b| match a {
+        Some(a) if a.2 <= b.2 => Some(a),
+        _ => Some(b),
+    });
+    best.map(|(n, p, _)| (n, p)).expect("a sheen search has nodes")
+}
+
+/// Each node with its material and loss: per channel, base colour $c$ and sheen colour
+/// $\sigma$ minimize $\sum w (a + b c + \sigma g - S)^2$ (with $g$ the sheen's
+/// [`Sheen::shape`]), $c$ in $[0, 1]$ and $\sigma$ in $[0, $ strength$]$.
+fn sheen_scored(targets: &[Target], nodes: Vec<SheenNode>) -> Vec<(SheenNode, Pbr, f64)> {
+    use rayon::prelude::*;
+    nodes
+        .into_par_iter()
+        .map(|node| {
+            let probe = Pbr { sheen: Some(Sheen { color: [node.strength; 3], roughness: node.sheen_roughness }), ..Pbr::core([0.0; 3], 0.0, node.roughness) };
+            // Per channel: Σw b², Σw b g, Σw g², Σw b r, Σw g r, Σw r², r = S − a.
+            let mut m = [[0.0f64; 6]; 3];
+            for t in targets {
+                for ((q, v), &w) in t.queries.iter().zip(&t.values).zip(&t.weights) {
+                    let (a, b) = probe.affine(q);
+                    let g = Sheen::shape(node.sheen_roughness, q);
+                    for c in 0..3 {
+                        let r = v[c] - a;
+                        let s = &mut m[c];
+                        s[0] += w * b * b;
+                        s[1] += w * b * g;
+                        s[2] += w * g * g;
+                        s[3] += w * b * r;
+                        s[4] += w * g * r;
+                        s[5] += w * r * r;
+                    }
+                }
+            }
+            let mut base_color = [0.0; 3];
+            let mut color = [0.0; 3];
+            let mut loss = 0.0;
+            for c in 0..3 {
+                let (x, y, l) = box_least_squares(&m[c], node.strength);
+                base_color[c] = x;
+                color[c] = y;
+                loss += l;
+            }
+            let pbr = Pbr { base_color, sheen: Some(Sheen { color, roughness: node.sheen_roughness }), ..probe };
+            (node, pbr, loss)
+        })
+        .collect()
+}
+
+/// Least squares in two unknowns from their moments `[Σb², Σbg, Σg², Σbr, Σgr, Σr²]`, $x$ in
+/// $[0, 1]$ and $y$ in $[0, y_{max}]$: the unconstrained solution clamped, then each
+/// unknown solved again at the other's clamped value. Returns $(x, y)$ and the loss.
+fn box_least_squares(m: &[f64; 6], y_max: f64) -> (f64, f64, f64) {
+    let [bb, bg, gg, br, gr, rr] = *m;
+    let det = bb * gg - bg * bg;
+    let (mut x, mut y) = if det > 1e-12 * (bb * gg).max(f64::MIN_POSITIVE) { ((br * gg - gr * bg) / det, (gr * bb - br * bg) / det) } else { (0.0, 0.0) };
+    x = x.clamp(0.0, 1.0);
+    y = y.clamp(0.0, y_max);
+    if gg > 0.0 {
+        y = ((gr - x * bg) / gg).clamp(0.0, y_max);
+    }
+    if bb > 0.0 {
+        x = ((br - y * bg) / bb).clamp(0.0, 1.0);
+    }
+    let loss = rr - 2.0 * x * br - 2.0 * y * gr + x * x * bb + 2.0 * x * y * bg + y * y * gg;
+    (x, y, loss)
+}
+
 /// Every combination of roughness, metallic and $F_0$, with `coat` (base colour unset).
 fn nodes(roughness: &[f64], metallic: &[f64], f0: &[f64], coat: Option<Coat>) -> Vec<Pbr> {
     let mut out = Vec::with_capacity(roughness.len() * metallic.len() * f0.len());
     for &r in roughness {
         for &m in metallic {
             for &f in f0 {
-                out.push(Pbr { base_color: [0.0; 3], metallic: m, roughness: r, specular_f0: f, coat });
+                out.push(Pbr { base_color: [0.0; 3], metallic: m, roughness: r, specular_f0: f, coat, sheen: None });
             }
         }
     }
@@ -160,8 +279,14 @@ fn parts(targets: &[Target], p: &Pbr) -> Vec<Vec<(f64, f64)>> {
 
 /// The loss of a material over the targets.
 fn loss(targets: &[Target], p: &Pbr) -> f64 {
-    let parts = parts(targets, p);
-    (0..3).map(|c| channel_loss(targets, &parts, c, p.base_color[c])).sum()
+    let mut sum = 0.0;
+    for t in targets {
+        for ((q, v), w) in t.queries.iter().zip(&t.values).zip(&t.weights) {
+            let s = p.shading(q);
+            sum += w * (0..3).map(|c| (s[c] - v[c]).powi(2)).sum::<f64>();
+        }
+    }
+    sum
 }
 
 /// `lo`, `lo × ratio`, … up to `hi` (inclusive, within rounding).
@@ -245,12 +370,13 @@ mod tests {
         assert!((a.pbr.roughness - 0.5).abs() < 0.01 && a.pbr.metallic < 0.02, "{:?}", a.pbr);
         assert!(a.all < 1e-3, "{}", a.all);
         assert_eq!(a.pbr.specular_color(), None, "{:?}", a.pbr);
+        assert!(a.pbr.coat.is_none() && a.pbr.sheen.is_none(), "{:?}", a.pbr);
     }
 
     #[test]
     fn recovers_a_dielectric_brighter_than_core_gltf_allows() {
         // A varnish-like F0 of 0.2 (index of refraction about 2.6): KHR_materials_specular.
-        let truth = Pbr { base_color: [0.1, 0.3, 0.6], metallic: 0.0, roughness: 0.3, specular_f0: 0.2, coat: None };
+        let truth = Pbr { base_color: [0.1, 0.3, 0.6], metallic: 0.0, roughness: 0.3, specular_f0: 0.2, coat: None, sheen: None };
         let a = fit(&truth, None, &Directions::all());
         assert!(a.pbr.metallic < 0.02 && (a.pbr.roughness - 0.3).abs() < 0.02, "{:?}", a.pbr);
         assert!((a.pbr.specular_f0 / 0.2 - 1.0).abs() < 0.1, "{:?}", a.pbr);
@@ -268,6 +394,41 @@ mod tests {
         assert!(a.all < 0.02, "{}", a.all);
         // Without a coat in the truth, none is written.
         assert_eq!(fit(&Pbr::core([0.6, 0.1, 0.05], 0.0, 0.7), None, &Directions::all()).pbr.coat, None);
+    }
+
+    #[test]
+    fn recovers_a_sheen_over_a_rough_base() {
+        let truth = Pbr { sheen: Some(Sheen { color: [0.6, 0.35, 0.5], roughness: 0.6 }), ..Pbr::core([0.3, 0.05, 0.12], 0.0, 0.9) };
+        let a = fit(&truth, None, &Directions::all());
+        let s = a.pbr.sheen.expect("a sheen");
+        assert!((s.roughness - 0.6).abs() < 0.05, "{:?}", a.pbr);
+        for c in 0..3 {
+            assert!((s.color[c] - truth.sheen.unwrap().color[c]).abs() < 0.05, "{:?}", a.pbr);
+            assert!((a.pbr.base_color[c] - truth.base_color[c]).abs() < 0.03, "{:?}", a.pbr);
+        }
+        assert!(a.all < 0.02, "{}", a.all);
+    }
+
+    /// The analytic velvet (tests' `Analytic::Velvet`: Lambert plus this sheen lobe, without
+    /// the dimming) is drawn much closer with a sheen than any material without one.
+    #[test]
+    fn velvet_takes_a_sheen() {
+        let velvet = crate::brdf::Analytic::Velvet { diffuse: [0.30, 0.05, 0.12], sheen: [0.60, 0.35, 0.50], roughness: 0.35 };
+        let all = Directions::all();
+        let a = fit(&velvet, None, &all);
+        let s = a.pbr.sheen.expect("a sheen");
+        // The velvet's Charlie parameter is α: sheen roughness √0.35 = 0.59.
+        assert!((s.roughness - 0.35f64.sqrt()).abs() < 0.1, "{:?}", a.pbr);
+        let targets = vec![Target::new(&velvet, &all, 1.0)];
+        let without = [
+            refine(&targets, search(&targets, nodes(&grid(MIN_ROUGHNESS, 1.0, ROUGHNESS_STEP), &grid(0.0, 1.0, METALLIC_STEP), &[DIELECTRIC_F0], None)).0),
+            coat(&targets),
+        ];
+        for p in without {
+            let e = relative_rms(&p, &velvet, &all);
+            eprintln!("velvet: with a sheen {:.4} ({:?}), without {e:.4}", a.all, a.pbr);
+            assert!(a.all < 0.5 * e, "with a sheen {}, without {e}: {p:?}", a.all);
+        }
     }
 
     #[test]

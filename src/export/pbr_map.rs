@@ -69,7 +69,7 @@ impl PbrMap {
             (i, x - i as f64)
         };
         let ((i, fx), (j, fy)) = (axis(uv.x), axis(uv.y));
-        let mut out = Pbr { base_color: [0.0; 3], metallic: 0.0, roughness: 0.0, specular_f0: 0.0, coat: None };
+        let mut out = Pbr { base_color: [0.0; 3], metallic: 0.0, roughness: 0.0, specular_f0: 0.0, coat: None, sheen: None };
         for (di, dj, w) in [(0, 0, (1.0 - fx) * (1.0 - fy)), (1, 0, fx * (1.0 - fy)), (0, 1, (1.0 - fx) * fy), (1, 1, fx * fy)] {
             let p = &self.texels[((j + dj).min(n - 1)) * n + (i + di).min(n - 1)];
             for c in 0..3 {
@@ -90,7 +90,7 @@ impl PbrMap {
 
     /// The factors the textures multiply: 1, and the largest $F_0$ (see [`PbrMap::max_f0`]).
     pub fn factors(&self) -> Pbr {
-        Pbr { base_color: [1.0; 3], metallic: 1.0, roughness: 1.0, specular_f0: self.max_f0(), coat: None }
+        Pbr { base_color: [1.0; 3], metallic: 1.0, roughness: 1.0, specular_f0: self.max_f0(), coat: None, sheen: None }
     }
 
     /// The map as its 8-bit textures store it: base colour and the specular ratio in sRGB
@@ -108,6 +108,7 @@ impl PbrMap {
                 roughness: linear(p.roughness).max(MIN_ROUGHNESS),
                 specular_f0: (srgb(p.specular_f0 / max_f0) * max_f0).max(DIELECTRIC_F0),
                 coat: None,
+                sheen: None,
             })
             .collect();
         PbrMap { res: self.res, texels }
@@ -224,7 +225,7 @@ fn nodes() -> Vec<Pbr> {
             out.push(Pbr::core([0.0; 3], m, r));
         }
         for f in f0_grid(DIELECTRIC_F0, 1.0, F0_RATIO).into_iter().skip(1) {
-            out.push(Pbr { base_color: [0.0; 3], metallic: 0.0, roughness: r, specular_f0: f, coat: None });
+            out.push(Pbr { base_color: [0.0; 3], metallic: 0.0, roughness: r, specular_f0: f, coat: None, sheen: None });
         }
     }
     out
