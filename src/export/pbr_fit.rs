@@ -106,12 +106,12 @@ fn coat(targets: &[Target]) -> Pbr {
 fn refine_coated(targets: &[Target], start: Pbr) -> (Pbr, f64) {
     let mut best = start;
     for _ in 0..4 {
-        let r = grid((best.roughness - 2.0 * ROUGHNESS_STEP).max(MIN_ROUGHNESS), (best.roughness + 2.0 * ROUGHNESS_STEP).min(1.0), ROUGHNESS_STEP / 5.0);
-        let m = grid((best.metallic - 2.0 * METALLIC_STEP).max(0.0), (best.metallic + 2.0 * METALLIC_STEP).min(1.0), METALLIC_STEP / 5.0);
+        let r = around(best.roughness, 2.0 * ROUGHNESS_STEP, MIN_ROUGHNESS, ROUGHNESS_STEP / 5.0);
+        let m = around(best.metallic, 2.0 * METALLIC_STEP, 0.0, METALLIC_STEP / 5.0);
         best = search(targets, nodes(&r, &m, &[DIELECTRIC_F0], best.coat)).0;
         let c = best.coat.expect("a coated search keeps its coat");
-        let factors = grid((c.factor - 0.125).max(COAT_FACTOR_STEP), (c.factor + 0.125).min(1.0), COAT_FACTOR_STEP);
-        let roughnesses = grid((c.roughness - COAT_ROUGHNESS_STEP).max(MIN_ROUGHNESS), (c.roughness + COAT_ROUGHNESS_STEP).min(1.0), COAT_ROUGHNESS_STEP / 5.0);
+        let factors = around(c.factor, 0.125, COAT_FACTOR_STEP, COAT_FACTOR_STEP);
+        let roughnesses = around(c.roughness, COAT_ROUGHNESS_STEP, MIN_ROUGHNESS, COAT_ROUGHNESS_STEP / 5.0);
         let coats = factors.iter().flat_map(|&factor| roughnesses.iter().map(move |&roughness| Coat { factor, roughness }));
         best = search(targets, coats.map(|coat| Pbr { coat: Some(coat), ..best }).collect()).0;
     }
@@ -151,10 +151,10 @@ fn sheen(targets: &[Target]) -> Pbr {
     let refined = ranked.into_iter().take(SHEEN_CANDIDATES).map(|(node, _, _)| {
         let mut best = node;
         for _ in 0..3 {
-            let r = grid((best.roughness - 2.0 * ROUGHNESS_STEP).max(MIN_ROUGHNESS), (best.roughness + 2.0 * ROUGHNESS_STEP).min(1.0), ROUGHNESS_STEP / 5.0);
+            let r = around(best.roughness, 2.0 * ROUGHNESS_STEP, MIN_ROUGHNESS, ROUGHNESS_STEP / 5.0);
             best = sheen_best(targets, r.iter().map(|&roughness| SheenNode { roughness, ..best }).collect()).0;
-            let rs = grid((best.sheen_roughness - SHEEN_ROUGHNESS_STEP).max(MIN_SHEEN_ROUGHNESS), (best.sheen_roughness + SHEEN_ROUGHNESS_STEP).min(1.0), SHEEN_ROUGHNESS_STEP / 10.0);
-            let k = grid((best.strength - 0.125).max(0.025), (best.strength + 0.125).min(1.0), 0.025);
+            let rs = around(best.sheen_roughness, SHEEN_ROUGHNESS_STEP, MIN_SHEEN_ROUGHNESS, SHEEN_ROUGHNESS_STEP / 10.0);
+            let k = around(best.strength, 0.125, 0.025, 0.025);
             let nodes = rs.iter().flat_map(|&sheen_roughness| k.iter().map(move |&strength| SheenNode { sheen_roughness, strength, ..best })).collect();
             best = sheen_best(targets, nodes).0;
         }
@@ -263,12 +263,12 @@ pub fn relative_rms(pbr: &dyn Reflectance, reference: &dyn Reflectance, dirs: &D
 /// The best material on a grid ten times finer about `coarse` (in $F_0$, five times finer
 /// in ratio), metallic held at 0 for a dielectric with its own $F_0$.
 fn refine(targets: &[Target], coarse: Pbr) -> Pbr {
-    let r = grid((coarse.roughness - ROUGHNESS_STEP).max(MIN_ROUGHNESS), (coarse.roughness + ROUGHNESS_STEP).min(1.0), ROUGHNESS_STEP / 10.0);
+    let r = around(coarse.roughness, ROUGHNESS_STEP, MIN_ROUGHNESS, ROUGHNESS_STEP / 10.0);
     if coarse.specular_f0 > DIELECTRIC_F0 {
         let f0 = f0_grid((coarse.specular_f0 / F0_RATIO).max(DIELECTRIC_F0), (coarse.specular_f0 * F0_RATIO).min(1.0), F0_RATIO.powf(0.2));
         return search(targets, nodes(&r, &[coarse.metallic], &f0, coarse.coat)).0;
     }
-    let m = grid((coarse.metallic - METALLIC_STEP).max(0.0), (coarse.metallic + METALLIC_STEP).min(1.0), METALLIC_STEP / 10.0);
+    let m = around(coarse.metallic, METALLIC_STEP, 0.0, METALLIC_STEP / 10.0);
     search(targets, nodes(&r, &m, &[coarse.specular_f0], coarse.coat)).0
 }
 
@@ -297,6 +297,11 @@ pub(super) fn f0_grid(lo: f64, hi: f64, ratio: f64) -> Vec<f64> {
         out.push(hi);
     }
     out
+}
+
+/// [`grid`] from `centre − half` to `centre + half`, kept within `[lo, 1]`.
+fn around(centre: f64, half: f64, lo: f64, step: f64) -> Vec<f64> {
+    grid((centre - half).max(lo), (centre + half).min(1.0), step)
 }
 
 /// `lo`, `lo + step`, … up to `hi` (inclusive, within rounding).
