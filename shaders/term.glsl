@@ -9,7 +9,8 @@
 //   NUM_FACTORS 0..6; F<k>_INPUT, F<k>_PARAM, F<k>_DOMAIN per factor and MAP_KIND name
 //   param.glsl's codes (INPUT_LIGHT, PARAM_RADIUS, DOMAIN_SPHERE, MAP_OFFSET, ...), the one
 //   place they are defined; F<k>_DIM 1 or 2; F<k>_WARP the node warp of a radius axis (a
-//   float literal, 1.0 for none); HAS_COEF 0 or 1; HAS_BASE 0 or 1; BASE_LOBE 0..6 (the
+//   float literal, 1.0 for none); F<k>_LEAN the lean of a half-vector input (a float literal,
+//   1.0 for none); HAS_COEF 0 or 1; HAS_BASE 0 or 1; BASE_LOBE 0..6 (the
 //   base lobe's family); HAS_DETAIL 0 or 1 (the painting's detail, term_detail) and
 //   DETAIL_GAIN (a float literal, Detail::GAIN).
 // Uniforms: u_factor<k> (sampler), u_res<k> (nodes per axis), u_map_a (per-channel a),
@@ -102,8 +103,11 @@ vec3 term_base(Surface s) {
 }
 #endif
 
-vec3 factor(sampler2D tex, int input_kind, int param, int domain, int dim, float warp, float m, Surface s) {
-    vec2 t = table_coordinate(input_kind, param, domain, s.l, s.h, s.v, s.uv);
+vec3 factor(sampler2D tex, int input_kind, int param, int domain, int dim, float warp, float lean, float m, Surface s) {
+    // The half vector leaned by k, h_k = (l + k v) / |l + k v| (FactorSpec::lean; 1: h).
+    vec3 hk = s.l + lean * s.v;
+    vec3 h = lean == 1.0 ? s.h : (length(hk) > 1e-6 ? normalize(hk) : vec3(0.0, 0.0, 1.0));
+    vec2 t = table_coordinate(input_kind, param, domain, s.l, h, s.v, s.uv);
     t.x = warp_forward(t.x, warp);
     // 1D tables are M x 1 textures (GLES has no 1D textures): sample the row's centre.
     vec2 size = dim == 1 ? vec2(m, 1.0) : vec2(m);
@@ -115,22 +119,22 @@ vec3 factor(sampler2D tex, int input_kind, int param, int domain, int dim, float
 vec3 term_product(Surface s) {
     vec3 prod = vec3(1.0);
 #if NUM_FACTORS > 0
-    prod *= factor(u_factor0, F0_INPUT, F0_PARAM, F0_DOMAIN, F0_DIM, F0_WARP, u_res0, s);
+    prod *= factor(u_factor0, F0_INPUT, F0_PARAM, F0_DOMAIN, F0_DIM, F0_WARP, F0_LEAN, u_res0, s);
 #endif
 #if NUM_FACTORS > 1
-    prod *= factor(u_factor1, F1_INPUT, F1_PARAM, F1_DOMAIN, F1_DIM, F1_WARP, u_res1, s);
+    prod *= factor(u_factor1, F1_INPUT, F1_PARAM, F1_DOMAIN, F1_DIM, F1_WARP, F1_LEAN, u_res1, s);
 #endif
 #if NUM_FACTORS > 2
-    prod *= factor(u_factor2, F2_INPUT, F2_PARAM, F2_DOMAIN, F2_DIM, F2_WARP, u_res2, s);
+    prod *= factor(u_factor2, F2_INPUT, F2_PARAM, F2_DOMAIN, F2_DIM, F2_WARP, F2_LEAN, u_res2, s);
 #endif
 #if NUM_FACTORS > 3
-    prod *= factor(u_factor3, F3_INPUT, F3_PARAM, F3_DOMAIN, F3_DIM, F3_WARP, u_res3, s);
+    prod *= factor(u_factor3, F3_INPUT, F3_PARAM, F3_DOMAIN, F3_DIM, F3_WARP, F3_LEAN, u_res3, s);
 #endif
 #if NUM_FACTORS > 4
-    prod *= factor(u_factor4, F4_INPUT, F4_PARAM, F4_DOMAIN, F4_DIM, F4_WARP, u_res4, s);
+    prod *= factor(u_factor4, F4_INPUT, F4_PARAM, F4_DOMAIN, F4_DIM, F4_WARP, F4_LEAN, u_res4, s);
 #endif
 #if NUM_FACTORS > 5
-    prod *= factor(u_factor5, F5_INPUT, F5_PARAM, F5_DOMAIN, F5_DIM, F5_WARP, u_res5, s);
+    prod *= factor(u_factor5, F5_INPUT, F5_PARAM, F5_DOMAIN, F5_DIM, F5_WARP, F5_LEAN, u_res5, s);
 #endif
 
     // Inverse of the log mapping (thesis eq. 3.14, 3.16), clamped at zero.

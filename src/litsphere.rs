@@ -48,7 +48,7 @@ mod segment;
 pub mod style;
 pub mod texture;
 
-pub use light::{estimate_light, estimate_tone_light, unlit_floor, LightEstimate, KEY, MIN_LIGHT_Z, UNDECIDED_DEG};
+pub use light::{estimate_light, estimate_tone_light, highlight_lean, unlit_floor, LightEstimate, KEY, MIN_LIGHT_Z, UNDECIDED_DEG};
 pub use style::Style;
 use segment::{border_median, components, otsu, perceptual_distance};
 
@@ -618,7 +618,11 @@ impl Stylization {
     pub fn settings(&self, base: &Settings, picture: &Picture, light: DVec3, res_given: bool, smooth_given: bool) -> Settings {
         match self.stylized {
             false => settings(base, light_floor(picture, light)),
-            true => style::settings(base, &picture.disk, res_given, smooth_given),
+            true => {
+                // A picture too small to read a lean from draws its highlight at h.
+                let lean = highlight_lean(&picture.painting, &picture.disk, light).unwrap_or(1.0);
+                style::settings(base, &picture.disk, lean, res_given, smooth_given)
+            }
         }
     }
 

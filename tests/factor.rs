@@ -26,6 +26,7 @@ fn custom(name: &str, param: Param, res: usize, project: fn(&Query) -> [f64; 2])
         damp: 0.0,
         ridge: 0.0,
         warp: 1.0,
+        lean: 1.0,
     }
 }
 
@@ -146,7 +147,7 @@ fn directions(n: usize, seed: u64) -> Pattern {
 /// that span every $(l, v)$, at new directions of the same kind.
 #[test]
 fn exact_products_with_half_difference_factors_are_recovered() {
-    let f = |input, param, domain, res| FactorSpec { input, param, domain, res, smooth: 0.0, damp: 0.0, ridge: 0.0, warp: 1.0 };
+    let f = |input, param, domain, res| FactorSpec { input, param, domain, res, smooth: 0.0, damp: 0.0, ridge: 0.0, warp: 1.0, lean: 1.0 };
     for (k, middle) in [
         f(Input::Difference, Param::Radius, Domain::Hemisphere, 9),
         f(Input::HalfDifference, Param::Radii, Domain::Hemisphere, 6),

@@ -105,6 +105,23 @@ fn warped_radius_tables_match_the_cpu_tables() {
         ]);
 }
 
+/// Leaned half-vector tables (FactorSpec::lean): the shader's $h_k$ against the CPU's, nearer
+/// the light, nearer the eye, and warped as well, on random tables where a wrong half vector
+/// shows as a jump between independent nodes.
+#[test]
+fn leaned_half_tables_match_the_cpu_tables() {
+    let leaned = |mut f: Factor, lean: f64, warp: f64| {
+        f.spec.lean = lean;
+        f.spec.warp = warp;
+        f
+    };
+    assert_tables_match("leaned", vec![
+            random_factor(spec(Input::Light, Param::Radius, Domain::Sphere, 33), 61),
+            leaned(random_factor(spec(Input::Half, Param::Radius, Domain::Sphere, 128), 62), 0.45, 3.0),
+            leaned(random_factor(spec(Input::Half, Param::Parabolic, Domain::Hemisphere, 16), 63), 2.5, 1.0),
+        ]);
+}
+
 #[test]
 fn two_d_factors_match_the_cpu_tables() {
     assert_tables_match("2D", vec![

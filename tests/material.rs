@@ -234,10 +234,23 @@ use brdfpaint::brdf::lobe::{Base, Lobe};
     let dir = tempfile::tempdir().unwrap();
     material.save(dir.path()).unwrap();
     let json: serde_json::Value = serde_json::from_slice(&std::fs::read(dir.path().join("material.json")).unwrap()).unwrap();
-    assert_eq!(json["version"], 5);
+    assert_eq!(json["version"], 6);
     assert_eq!(json["terms"][0]["base"]["alpha"], base.alpha);
     assert_eq!(json["terms"][0]["base"]["lobe"], "ggx");
     assert!(Material::load(dir.path()).unwrap() == material);
+    // A leaned half vector (version 6) round-trips; a lean on the light factor is refused in
+    // one line that names it.
+    let mut leaned = material.clone();
+    leaned.terms[0].factors[1].spec.lean = 0.5;
+    let dir2 = tempfile::tempdir().unwrap();
+    leaned.save(dir2.path()).unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(dir2.path().join("material.json")).unwrap()).unwrap();
+    assert_eq!(json["terms"][0]["factors"][1]["lean"], 0.5);
+    assert!(json["terms"][0]["factors"][0].get("lean").is_none(), "a lean of 1 is absent");
+    assert!(Material::load(dir2.path()).unwrap() == leaned);
+    edit_json(dir2.path(), |v| v["terms"][0]["factors"][0]["lean"] = serde_json::json!(0.5));
+    let e = Material::load(dir2.path()).unwrap_err().to_string();
+    assert!(e.contains("lean") && !e.contains('\n'), "{e}");
     // A version 3 file has no lobe: its base is GGX.
     edit_json(dir.path(), |v| {
         v["version"] = serde_json::json!(3);

@@ -1,6 +1,6 @@
 //! Brush texture kept (`fit --lit-sphere --texture keep`, issue 36 item 3): a painting's
 //! detail over its material travels to the bunny with its contrast while the light still
-//! moves the shading; it is stored (material version 5) and drawn by the shader exactly as
+//! moves the shading; it is stored (material version 5 and later) and drawn by the shader exactly as
 //! [`Detail::lookup`] reads it. The paintings are MyPaint's (tools/mypaint: real brush
 //! presets on scanned paper), of models the detail's constants were not chosen on.
 
@@ -58,7 +58,7 @@ fn brush_texture_survives_on_the_bunny_and_the_light_still_moves_the_shading() {
     }
 }
 
-/// The detail is saved and loaded with the material (version 5), and a material without it
+/// The detail is saved and loaded with the material (version 5 and later), and a material without it
 /// writes no detail file.
 #[test]
 fn the_detail_is_stored_with_the_material() {
@@ -68,7 +68,7 @@ fn the_detail_is_stored_with_the_material() {
     let out = dir.path().join("kept");
     lit.save(path, &out).unwrap();
     let json = std::fs::read_to_string(out.join("material.json")).unwrap();
-    assert!(json.contains("\"version\": 5") && json.contains("detail.exr"), "{json}");
+    assert!(json.contains("\"version\": 6") && json.contains("detail.exr"), "{json}");
     let loaded = Material::load(&out).unwrap();
     assert_eq!(loaded.detail, lit.fitted.material.detail);
     let plain = dir.path().join("plain");

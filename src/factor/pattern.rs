@@ -26,13 +26,20 @@ impl Query {
     /// The half vector $h = (l + v) / |l + v|$. When $l = -v$ it is undefined; the normal is
     /// returned then, a choice that only affects a set of measure zero.
     pub fn h(&self) -> DVec3 {
-        let s = self.l + self.v;
-        let len = s.length();
-        if len > 1e-12 {
-            s / len
-        } else {
-            DVec3::Z
-        }
+        leaned_half(self.l, self.v, 1.0)
+    }
+}
+
+/// The half vector leaned by $k$: $h_k = (l + k v) / |l + k v|$, $h_1 = h$. A drawn highlight
+/// is a circle about $h_k$ ([`FactorSpec::lean`](super::FactorSpec::lean)); undefined where
+/// $l = -k v$, where the normal is returned, as [`Query::h`] does.
+pub fn leaned_half(l: DVec3, v: DVec3, k: f64) -> DVec3 {
+    let s = l + k * v;
+    let len = s.length();
+    if len > 1e-12 {
+        s / len
+    } else {
+        DVec3::Z
     }
 }
 

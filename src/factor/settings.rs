@@ -114,7 +114,25 @@ pub struct FactorSpec {
     /// warp) is the thesis's table and material format version 1.
     #[serde(default = "no_warp", skip_serializing_if = "is_no_warp")]
     pub warp: f64,
+    /// Lean $k > 0$ of a half-vector factor's input: it looks up $h_k \propto l + k v$
+    /// ([`super::leaned_half`]) instead of $h = h_1$, so a highlight a painter drew nearer the
+    /// light (or the eye) than the mirror direction stays where it was drawn under every
+    /// light ([`crate::litsphere::highlight_lean`]). 1 (absent) is the thesis's $q(h)$;
+    /// other values are material format version 6.
+    #[serde(default = "no_lean", skip_serializing_if = "is_no_lean")]
+    pub lean: f64,
 }
+
+fn no_lean() -> f64 {
+    1.0
+}
+
+fn is_no_lean(k: &f64) -> bool {
+    *k == 1.0
+}
+
+/// Leans accepted: a highlight between the light (1/8) and the eye (8).
+pub const LEAN_RANGE: std::ops::RangeInclusive<f64> = 0.125..=8.0;
 
 fn no_warp() -> f64 {
     1.0
@@ -142,6 +160,7 @@ impl FactorSpec {
             damp: defaults::DAMP_1D,
             ridge: 0.0,
             warp: 1.0,
+            lean: 1.0,
         }
     }
 
@@ -293,7 +312,7 @@ impl Settings {
         } else {
             (Param::Parabolic, defaults::SMOOTH_2D, defaults::DAMP_2D, defaults::DAMP_2D_FREE)
         };
-        let factor = |input, domain, damp| FactorSpec { input, param, domain, res, smooth, damp, ridge: 0.0, warp: 1.0 };
+        let factor = |input, domain, damp| FactorSpec { input, param, domain, res, smooth, damp, ridge: 0.0, warp: 1.0, lean: 1.0 };
         let mut half = factor(Input::Half, if dim == 1 { Domain::Sphere } else { Domain::Hemisphere }, free);
         if dim == 1 {
             half.warp = defaults::WARP_HALF;
@@ -324,6 +343,7 @@ impl Settings {
             damp: 0.0,
             ridge: defaults::RIDGE_UV,
             warp: 1.0,
+            lean: 1.0,
         });
         s
     }
@@ -396,6 +416,7 @@ impl Settings {
             damp: defaults::DAMP_2D_FREE,
             ridge: 0.0,
             warp: 1.0,
+            lean: 1.0,
         };
         s
     }
@@ -441,6 +462,15 @@ impl Settings {
                     "factor {j} ({}): node warp {} must be in 1..={MAX_WARP}, and 1 unless the table is a radius",
                     f.input.name(),
                     f.warp
+                )));
+            }
+            if !LEAN_RANGE.contains(&f.lean) || (f.lean != 1.0 && f.input != Input::Half) {
+                return Err(Error::input(format!(
+                    "factor {j} ({}): lean {} must be in {}..={}, and 1 unless the factor looks up the half vector",
+                    f.input.name(),
+                    f.lean,
+                    LEAN_RANGE.start(),
+                    LEAN_RANGE.end()
                 )));
             }
             // uv goes with uv, the (h, d) pair with two radii, and those only with each other.

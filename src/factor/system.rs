@@ -25,7 +25,7 @@ pub fn coordinate(spec: &FactorSpec, q: &Query) -> [f64; 2] {
 fn unwarped(spec: &FactorSpec, q: &Query) -> [f64; 2] {
     let d = match &spec.input {
         Input::Light => q.l,
-        Input::Half => q.h(),
+        Input::Half => super::leaned_half(q.l, q.v, spec.lean),
         Input::View => q.v,
         Input::Uv => {
             let t = param::uv_forward(q.uv);

@@ -166,7 +166,7 @@ pub fn estimate_tone_light(p: &Painting, disk: &Disk) -> Result<LightEstimate> {
     let (normals, linear) = disk_samples(p, disk, 16000)?;
     // In display codes, where the painter chose the tones.
     let y: Vec<f64> = linear.iter().map(|&v| f64::from(crate::images::linear_to_srgb(v as f32))).collect();
-    let cost = |l: DVec3| band_residual(l, &normals, &y);
+    let cost = |l: DVec3| band_residual(l, 1.0, &normals, &y);
     // In front only: a tone edge is a circle about $l$ and about $-l$ alike.
     let coarse = search_directions(4000, 0.0);
     let mut scored: Vec<(DVec3, f64)> = coarse.par_iter().map(|&l| (l, cost(l))).collect();
@@ -203,12 +203,13 @@ const TONE_BANDS: usize = 160;
 /// between the terminator's bands and the highlight's; more change the cost by little.
 const SWEEPS: usize = 2;
 
-/// $\sum$ of squared residuals of $y \approx P(n \cdot l) + Q(n \cdot h)$ with $P, Q$
-/// piecewise constant over [`TONE_BANDS`] bands, fitted by backfitting (the view is the lit
-/// sphere's, $v = +z$).
-fn band_residual(l: DVec3, normals: &[DVec3], y: &[f64]) -> f64 {
+/// $\sum$ of squared residuals of $y \approx P(n \cdot l) + Q(n \cdot h_k)$ with $P, Q$
+/// piecewise constant over [`TONE_BANDS`] bands, fitted by backfitting; $h_k$ is the half
+/// vector leaned by `lean` ([`crate::factor::leaned_half`]; the view is the lit sphere's,
+/// $v = +z$).
+fn band_residual(l: DVec3, lean: f64, normals: &[DVec3], y: &[f64]) -> f64 {
     let band = |c: f64| (((c + 1.0) * 0.5 * TONE_BANDS as f64) as usize).min(TONE_BANDS - 1);
-    let h = (l + DVec3::Z).normalize_or(DVec3::Z);
+    let h = crate::factor::leaned_half(l, DVec3::Z, lean);
     let bands: Vec<[usize; 2]> = normals.iter().map(|n| [band(n.dot(l)), band(n.dot(h))]).collect();
     let mut parts = vec![[0.0f64; 2]; y.len()];
     for _ in 0..SWEEPS {
@@ -224,6 +225,61 @@ fn band_residual(l: DVec3, normals: &[DVec3], y: &[f64]) -> f64 {
         }
     }
     parts.iter().zip(y).map(|(part, &v)| (v - part.iter().sum::<f64>()).powi(2)).sum()
+}
+
+/// Leans tried for a drawn highlight ([`highlight_lean`]): $2^{i/16}$ from 1/8 (the
+/// highlight almost at the light) to 8 (almost at the view).
+const LEANS: std::ops::RangeInclusive<i32> = -48..=48;
+
+/// A highlight pixel stands this many robust standard deviations above the light's bands:
+/// under Gaussian scatter 3σ passes one pixel in 700, so a flat tone's JPEG noise does not
+/// make a highlight.
+const HIGHLIGHT_SIGMAS: f64 = 3.0;
+
+/// A drawn highlight's pixels lie within this angle of its brightest one (a dot or a window
+/// is a few degrees across; a rim light elsewhere on the disk is not part of it).
+const HIGHLIGHT_REACH_DEG: f64 = 20.0;
+
+/// Where the painter put the highlight of a stylized picture lit from `l`: the lean $k$ of
+/// the half vector $h_k \propto l + k v$ about which it is drawn (1: the physical half
+/// vector; painters often put it nearer the light). The highlight is what the light's bands
+/// leave: pixels [`HIGHLIGHT_SIGMAS`] above the picture as a function of $n \cdot l$, within
+/// [`HIGHLIGHT_REACH_DEG`] of the brightest; $k$ puts $h_k$ at their centre. It is kept when
+/// the Bayesian information criterion prefers it (one more parameter: $N \ln(c_1 / c_k) >
+/// \ln N$ for $N$ pixels and [`band_residual`]'s costs, the residual taken as Gaussian), so a
+/// picture whose highlight sits at $h$, or that has none, keeps 1.
+pub fn highlight_lean(p: &Painting, disk: &Disk, l: DVec3) -> Result<f64> {
+    let (normals, linear) = disk_samples(p, disk, 16000)?;
+    let y: Vec<f64> = linear.iter().map(|&v| f64::from(crate::images::linear_to_srgb(v as f32))).collect();
+    let Some(centre) = highlight_centre(l, &normals, &y) else { return Ok(1.0) };
+    let angle = |k: f64| crate::factor::leaned_half(l, DVec3::Z, k).angle_between(centre);
+    let lean = LEANS.map(|i| 2f64.powf(f64::from(i) / 16.0)).min_by(|a, b| angle(*a).total_cmp(&angle(*b))).unwrap_or(1.0);
+    let (physical, leaned) = (band_residual(l, 1.0, &normals, &y), band_residual(l, lean, &normals, &y));
+    let n = y.len() as f64;
+    Ok(if leaned > 0.0 && n * (physical / leaned).ln() > n.ln() { lean } else { 1.0 })
+}
+
+/// The centre (a unit normal) of the pixels the light's bands leave bright
+/// ([`highlight_lean`]), or `None` when fewer than three stand out.
+fn highlight_centre(l: DVec3, normals: &[DVec3], y: &[f64]) -> Option<DVec3> {
+    let band = |c: f64| (((c + 1.0) * 0.5 * TONE_BANDS as f64) as usize).min(TONE_BANDS - 1);
+    let (mut sum, mut count) = ([0.0f64; TONE_BANDS], [0usize; TONE_BANDS]);
+    for (n, &v) in normals.iter().zip(y) {
+        sum[band(n.dot(l))] += v;
+        count[band(n.dot(l))] += 1;
+    }
+    let residual: Vec<f64> = normals.iter().zip(y).map(|(n, &v)| v - sum[band(n.dot(l))] / count[band(n.dot(l))] as f64).collect();
+    let mut abs: Vec<f64> = residual.iter().map(|r| r.abs()).collect();
+    abs.sort_by(f64::total_cmp);
+    // At least one 8-bit code: flat tones leave no scatter.
+    let sigma = (1.4826 * abs[abs.len() / 2]).max(1.0 / 255.0);
+    // The highlight is the brightest tone: within a flat tone's scatter of the brightest code.
+    let brightest = y.iter().cloned().fold(0.0, f64::max) - super::style::TONE_WIDTH as f64 / 255.0;
+    let stands = |k: usize| residual[k] > HIGHLIGHT_SIGMAS * sigma && y[k] >= brightest;
+    let (peak, &top) = residual.iter().enumerate().filter(|&(k, _)| stands(k)).max_by(|a, b| a.1.total_cmp(b.1))?;
+    let reach = HIGHLIGHT_REACH_DEG.to_radians().cos();
+    let bright: Vec<(DVec3, f64)> = (0..y.len()).filter(|&k| stands(k) && normals[k].dot(normals[peak]) >= reach).map(|k| (normals[k], residual[k])).collect();
+    (top > HIGHLIGHT_SIGMAS * sigma && bright.len() >= 3).then(|| bright.iter().map(|&(n, r)| n * r).sum::<DVec3>().normalize())
 }
 
 /// The disk's normals and luminances, off the rim (where normals are steep and edges mix

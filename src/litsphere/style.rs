@@ -134,8 +134,9 @@ pub fn resolution(disk: &Disk) -> usize {
 
 /// The settings of a stylized fit from the user's (`base`): every 1D table of a direction
 /// at [`resolution`] nodes unless `res_given`, smoothed by [`STYLIZED_SMOOTH`] unless
-/// `smooth_given`, and no light prior.
-pub fn settings(base: &Settings, disk: &Disk, res_given: bool, smooth_given: bool) -> Settings {
+/// `smooth_given`, the half-vector table looking up the highlight's `lean`
+/// ([`super::highlight_lean`]), and no light prior.
+pub fn settings(base: &Settings, disk: &Disk, lean: f64, res_given: bool, smooth_given: bool) -> Settings {
     let mut s = base.clone();
     for f in s.factors.iter_mut().filter(|f| f.dim() == 1 && matches!(f.input, Input::Light | Input::Half | Input::View)) {
         if !res_given {
@@ -143,6 +144,9 @@ pub fn settings(base: &Settings, disk: &Disk, res_given: bool, smooth_given: boo
         }
         if !smooth_given {
             f.smooth = STYLIZED_SMOOTH;
+        }
+        if f.input == Input::Half {
+            f.lean = lean;
         }
     }
     s.light_prior = None;

@@ -33,13 +33,15 @@ pub const FORMAT: &str = "brdfpaint-material";
 /// `ward`, `ashikhmin-shirley`, `oren-nayar` or `minnaert`), which a version 3 reader would
 /// ignore and draw as GGX. Version 5 added the painting's detail (`detail`: `res`, `floor`
 /// and `texture`, a square EXR looked up by the view-space normal; absent without one), which a
-/// version 4 reader would ignore and draw without.
-pub const VERSION: u32 = 5;
+/// version 4 reader would ignore and draw without. Version 6 added a half-vector factor's lean
+/// (`lean`, absent when 1: [`FactorSpec::lean`]), which a version 5 reader would ignore and
+/// draw at the mirror direction.
+pub const VERSION: u32 = 6;
 /// The versions this build reads: version 1 files are version 2 files without those
 /// (every factor unwarped), version 2 files are version 3 files without bases, version 3
 /// files are version 4 files whose bases are all GGX, version 4 files are version 5 files
-/// without detail.
-pub const READS: [u32; 5] = [1, 2, 3, 4, 5];
+/// without detail, version 5 files are version 6 files without leans.
+pub const READS: [u32; 6] = [1, 2, 3, 4, 5, 6];
 /// Largest material.json read (the provenance is the only part that grows).
 const MAX_JSON_BYTES: u64 = 16 << 20;
 

@@ -202,6 +202,7 @@ impl GpuShading {
                 defines.push((FACTOR_DEFINES[j][3], f.spec.dim().to_string()));
                 // A float literal ("1.0", "2.5"): f32's Debug form always has a decimal point.
                 defines.push((FACTOR_DEFINES[j][4], format!("{:?}", f.spec.warp as f32)));
+                defines.push((FACTOR_DEFINES[j][5], format!("{:?}", f.spec.lean as f32)));
             }
             let (kind, a) = match term.map {
                 LogMap::Identity { .. } => ("MAP_IDENTITY", [0.0; 3]),
@@ -259,14 +260,14 @@ fn rgba(texels: &[[f32; 3]]) -> Vec<f32> {
     texels.iter().flat_map(|t| [t[0], t[1], t[2], 1.0]).collect()
 }
 
-/// `#define` names of factor k: input, param, domain, dim, node warp.
-const FACTOR_DEFINES: [[&str; 5]; MAX_FACTORS] = [
-    ["F0_INPUT", "F0_PARAM", "F0_DOMAIN", "F0_DIM", "F0_WARP"],
-    ["F1_INPUT", "F1_PARAM", "F1_DOMAIN", "F1_DIM", "F1_WARP"],
-    ["F2_INPUT", "F2_PARAM", "F2_DOMAIN", "F2_DIM", "F2_WARP"],
-    ["F3_INPUT", "F3_PARAM", "F3_DOMAIN", "F3_DIM", "F3_WARP"],
-    ["F4_INPUT", "F4_PARAM", "F4_DOMAIN", "F4_DIM", "F4_WARP"],
-    ["F5_INPUT", "F5_PARAM", "F5_DOMAIN", "F5_DIM", "F5_WARP"],
+/// `#define` names of factor k: input, param, domain, dim, node warp, lean.
+const FACTOR_DEFINES: [[&str; 6]; MAX_FACTORS] = [
+    ["F0_INPUT", "F0_PARAM", "F0_DOMAIN", "F0_DIM", "F0_WARP", "F0_LEAN"],
+    ["F1_INPUT", "F1_PARAM", "F1_DOMAIN", "F1_DIM", "F1_WARP", "F1_LEAN"],
+    ["F2_INPUT", "F2_PARAM", "F2_DOMAIN", "F2_DIM", "F2_WARP", "F2_LEAN"],
+    ["F3_INPUT", "F3_PARAM", "F3_DOMAIN", "F3_DIM", "F3_WARP", "F3_LEAN"],
+    ["F4_INPUT", "F4_PARAM", "F4_DOMAIN", "F4_DIM", "F4_WARP", "F4_LEAN"],
+    ["F5_INPUT", "F5_PARAM", "F5_DOMAIN", "F5_DIM", "F5_WARP", "F5_LEAN"],
 ];
 
 /// Sampler uniform name and resolution uniform name of factor k.
@@ -291,7 +292,7 @@ mod tests {
     use crate::material::{Coefficients, Factor, Kind, Term};
 
     fn spec(input: Input, param: Param, res: usize) -> FactorSpec {
-        FactorSpec { input, param, domain: Domain::Sphere, res, smooth: 0.0, damp: 0.0, ridge: 0.0, warp: 1.0 }
+        FactorSpec { input, param, domain: Domain::Sphere, res, smooth: 0.0, damp: 0.0, ridge: 0.0, warp: 1.0, lean: 1.0 }
     }
 
     fn uniform(factors: Vec<Factor>) -> Material {

@@ -95,7 +95,7 @@ pub fn sphere_normal(camera: DVec3, res: usize, i: usize, j: usize) -> Option<DV
 }
 
 pub fn spec(input: Input, param: Param, domain: Domain, res: usize) -> FactorSpec {
-    FactorSpec { input, param, domain, res, smooth: 0.0, damp: 0.0, ridge: 0.0, warp: 1.0 }
+    FactorSpec { input, param, domain, res, smooth: 0.0, damp: 0.0, ridge: 0.0, warp: 1.0, lean: 1.0 }
 }
 
 /// A table of independent random values in [0.3, 1.3] per node and channel: the hardest

@@ -61,7 +61,9 @@ impl TablePlots {
                             let max = f.texels.iter().flat_map(|t| t.iter()).fold(0.0f32, |a, &b| a.max(b));
                             // A warped table's nodes are uniform in t^(1/γ): the curve is drawn over them.
                             let warp = if f.spec.warp == 1.0 { String::new() } else { format!(" warped γ={}", f.spec.warp) };
-                            ui.small(format!("term {ti} {name}: {:?} {}D, {} nodes{warp}, max {max:.3}", f.spec.param, f.spec.dim(), f.spec.res));
+                            // A leaned half vector h_k ∝ l + k v: where the painter put the highlight.
+                            let lean = if f.spec.lean == 1.0 { String::new() } else { format!(" leaned k={:.2}", f.spec.lean) };
+                            ui.small(format!("term {ti} {name}: {:?} {}D, {} nodes{warp}{lean}, max {max:.3}", f.spec.param, f.spec.dim(), f.spec.res));
                             if f.spec.dim() == 1 {
                                 plot_curves(ui, &f.texels, max, f.spec.domain == Domain::Sphere, Vec2::new(height * 1.8, height - 18.0));
                             } else {
