@@ -354,11 +354,10 @@ fn the_blender_toon_keeps_two_tones_and_a_hard_highlight_on_the_bunny() {
     // The picture's lightest tone: the brightest luminance histogram peak below white.
     let p = &lit.view.painting;
     let mut histogram = [0usize; 256];
-    for (c, &a) in p.pixels.iter().zip(&p.alpha).filter(|(_, &a)| a > 0.0) {
-        let _ = a;
+    for (c, _) in p.pixels.iter().zip(&p.alpha).filter(|(_, &a)| a > 0.0) {
         histogram[(display_luminance(c.map(f64::from)) * 255.0).round().clamp(0.0, 255.0) as usize] += 1;
     }
-    let lightest = (0..240).max_by_key(|&c| if c > 128 { histogram[c] } else { 0 }).unwrap() as f64 / 255.0;
+    let lightest = (129..240).max_by_key(|&c| histogram[c]).unwrap() as f64 / 255.0;
     let step = 1.0 - lightest;
     let ctx = HeadlessContext::new().unwrap();
     let mut renderer = Renderer::new(ctx.gl()).unwrap();

@@ -72,7 +72,7 @@ impl Sheen {
         if cl <= 0.0 || cv <= 0.0 {
             return 0.0;
         }
-        PI * cl * charlie_d(roughness, (q.l + q.v).normalize().z) * neubelt_v(cl, cv)
+        PI * cl * charlie_d(roughness, q.h().z) * neubelt_v(cl, cv)
     }
 
     /// The factor the rest of the material is dimmed by at `q` (type documentation).

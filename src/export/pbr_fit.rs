@@ -165,11 +165,8 @@ fn sheen(targets: &[Target]) -> Pbr {
 
 /// The node of least loss among `nodes`, and its material.
 fn sheen_best(targets: &[Target], nodes: Vec<SheenNode>) -> (SheenNode, Pbr) {
-    let scored = sheen_scored(targets, nodes);
-    let best = scored.into_iter().fold(None, |a: Option<(SheenNode, Pbr, f64)>, b| match a {
-        Some(a) if a.2 <= b.2 => Some(a),
-        _ => Some(b),
-    });
+    // Ties go to the first node (`min_by` keeps the first of equal ones).
+    let best = sheen_scored(targets, nodes).into_iter().min_by(|a, b| a.2.total_cmp(&b.2));
     best.map(|(n, p, _)| (n, p)).expect("a sheen search has nodes")
 }
 

@@ -208,9 +208,8 @@ const SWEEPS: usize = 2;
 /// vector leaned by `lean` ([`crate::factor::leaned_half`]; the view is the lit sphere's,
 /// $v = +z$).
 fn band_residual(l: DVec3, lean: f64, normals: &[DVec3], y: &[f64]) -> f64 {
-    let band = |c: f64| (((c + 1.0) * 0.5 * TONE_BANDS as f64) as usize).min(TONE_BANDS - 1);
     let h = crate::factor::leaned_half(l, DVec3::Z, lean);
-    let bands: Vec<[usize; 2]> = normals.iter().map(|n| [band(n.dot(l)), band(n.dot(h))]).collect();
+    let bands: Vec<[usize; 2]> = normals.iter().map(|n| [tone_band(n.dot(l)), tone_band(n.dot(h))]).collect();
     let mut parts = vec![[0.0f64; 2]; y.len()];
     for _ in 0..SWEEPS {
         for f in 0..2 {
@@ -225,6 +224,11 @@ fn band_residual(l: DVec3, lean: f64, normals: &[DVec3], y: &[f64]) -> f64 {
         }
     }
     parts.iter().zip(y).map(|(part, &v)| (v - part.iter().sum::<f64>()).powi(2)).sum()
+}
+
+/// The band of [`TONE_BANDS`] a cosine in $[-1, 1]$ falls in.
+fn tone_band(c: f64) -> usize {
+    (((c + 1.0) * 0.5 * TONE_BANDS as f64) as usize).min(TONE_BANDS - 1)
 }
 
 /// Leans tried for a drawn highlight ([`highlight_lean`]): $2^{i/16}$ from 1/8 (the
@@ -262,13 +266,13 @@ pub fn highlight_lean(p: &Painting, disk: &Disk, l: DVec3) -> Result<f64> {
 /// The centre (a unit normal) of the pixels the light's bands leave bright
 /// ([`highlight_lean`]), or `None` when fewer than three stand out.
 fn highlight_centre(l: DVec3, normals: &[DVec3], y: &[f64]) -> Option<DVec3> {
-    let band = |c: f64| (((c + 1.0) * 0.5 * TONE_BANDS as f64) as usize).min(TONE_BANDS - 1);
+    let bands: Vec<usize> = normals.iter().map(|n| tone_band(n.dot(l))).collect();
     let (mut sum, mut count) = ([0.0f64; TONE_BANDS], [0usize; TONE_BANDS]);
-    for (n, &v) in normals.iter().zip(y) {
-        sum[band(n.dot(l))] += v;
-        count[band(n.dot(l))] += 1;
+    for (&b, &v) in bands.iter().zip(y) {
+        sum[b] += v;
+        count[b] += 1;
     }
-    let residual: Vec<f64> = normals.iter().zip(y).map(|(n, &v)| v - sum[band(n.dot(l))] / count[band(n.dot(l))] as f64).collect();
+    let residual: Vec<f64> = bands.iter().zip(y).map(|(&b, &v)| v - sum[b] / count[b] as f64).collect();
     let mut abs: Vec<f64> = residual.iter().map(|r| r.abs()).collect();
     abs.sort_by(f64::total_cmp);
     // At least one 8-bit code: flat tones leave no scatter.
@@ -276,10 +280,10 @@ fn highlight_centre(l: DVec3, normals: &[DVec3], y: &[f64]) -> Option<DVec3> {
     // The highlight is the brightest tone: within a flat tone's scatter of the brightest code.
     let brightest = y.iter().cloned().fold(0.0, f64::max) - super::style::TONE_WIDTH as f64 / 255.0;
     let stands = |k: usize| residual[k] > HIGHLIGHT_SIGMAS * sigma && y[k] >= brightest;
-    let (peak, &top) = residual.iter().enumerate().filter(|&(k, _)| stands(k)).max_by(|a, b| a.1.total_cmp(b.1))?;
+    let (peak, _) = residual.iter().enumerate().filter(|&(k, _)| stands(k)).max_by(|a, b| a.1.total_cmp(b.1))?;
     let reach = HIGHLIGHT_REACH_DEG.to_radians().cos();
     let bright: Vec<(DVec3, f64)> = (0..y.len()).filter(|&k| stands(k) && normals[k].dot(normals[peak]) >= reach).map(|k| (normals[k], residual[k])).collect();
-    (top > HIGHLIGHT_SIGMAS * sigma && bright.len() >= 3).then(|| bright.iter().map(|&(n, r)| n * r).sum::<DVec3>().normalize())
+    (bright.len() >= 3).then(|| bright.iter().map(|&(n, r)| n * r).sum::<DVec3>().normalize())
 }
 
 /// The disk's normals and luminances, off the rim (where normals are steep and edges mix
