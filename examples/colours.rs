@@ -1,5 +1,6 @@
 //! Colours a lit-sphere material invents on the bunny (issue 35; `study::colour`), with
-//! the channels fitted independently (the thesis) and coupled (the default).
+//! the thesis's fit (channels one by one, the mapping of least error) and the default
+//! (which leaves it for coupled channels, then the identity mapping, when it invents colours).
 //!
 //! ```text
 //! cargo run --release --example colours -- blender   # the 23 Blender MatCaps (reported on)
@@ -13,7 +14,6 @@
 use std::path::{Path, PathBuf};
 
 use brdfpaint::brdf::{Analytic, Reflectance, SphereView};
-use brdfpaint::factor::Channels;
 use brdfpaint::gl::HeadlessContext;
 use brdfpaint::images::Painting;
 use brdfpaint::litsphere::{self, Picture};
@@ -56,6 +56,12 @@ fn main() -> brdfpaint::error::Result<()> {
     let tmp = tempfile::tempdir().expect("a temporary directory");
     let paths = match args.first().map(String::as_str) {
         Some("tuning") => tuning(tmp.path()),
+        Some("dir") => {
+            let dir = args.get(1).expect("dir: give the folder of pictures");
+            let mut p: Vec<PathBuf> = std::fs::read_dir(dir).expect("the folder").filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|e| ["png", "jpg", "exr"].iter().any(|x| e == *x))).collect();
+            p.sort();
+            p
+        }
         _ => {
             let mut p: Vec<PathBuf> = std::fs::read_dir(MATCAPS).expect("the Blender MatCaps").filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|e| e == "exr")).collect();
             p.sort();
@@ -67,17 +73,21 @@ fn main() -> brdfpaint::error::Result<()> {
     let mut renderer = Renderer::new(ctx.gl())?;
     let scene = Scene::from_preset("bunny", "front")?;
     let mut gpu = GpuScene::upload(ctx.gl(), &scene)?;
-    println!("| picture | independent key | darkest | coupled key | darkest | darkest/brightest ind. | coupled |");
-    println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: |");
+    println!("| picture | independent key | darkest | default key | darkest | darkest/brightest ind. | default | own-scene relative RMS ind. | default |");
+    println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
     let mut count = [0usize; 2];
+    let mut own: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
     for path in &paths {
         let name = path.file_stem().unwrap().to_string_lossy().to_string();
         let palette = Palette::of_painting(&Picture::read(path, litsphere::MAX_SIDE)?.painting);
         let mut row = Vec::new();
-        for (k, channels) in [Channels::Independent, Channels::Coupled].into_iter().enumerate() {
-            let mut opts = Options::default();
-            opts.settings.channels = channels;
+        for (k, guard) in [false, true].into_iter().enumerate() {
+            // The thesis's fit (channels one by one, the mapping of least error), and the
+            // default, which leaves it when it invents colours.
+            let opts = Options { keep_colours: guard, ..Options::default() };
+            let channels = if guard { "default" } else { "independent" };
             let fit = litsphere::fit(path, None, &opts, None)?;
+            own[k].push(fit.fitted.material.provenance.errors.unwrap_or_default().rms_relative);
             // The fit sampled the picture with a context of its own.
             ctx.make_current()?;
             let key = gpu.camera.world_from_camera.transform_vector3(fit.light.as_vec3());
@@ -87,7 +97,8 @@ fn main() -> brdfpaint::error::Result<()> {
             row.push(s);
             if let Some(dir) = &png {
                 std::fs::create_dir_all(dir).expect("the PNG folder");
-                for (tag, towards) in [("key", key), ("side", gpu.camera.world_from_camera.transform_vector3(Vec3::X))] {
+                let side = gpu.camera.world_from_camera.transform_vector3(Vec3::X);
+                for (tag, towards) in [("key", key), ("side", side), ("darkest", row[k].darkest_towards)] {
                     gpu.light = brdfpaint::scene::Light::Directional { direction: -towards.normalize(), color: Vec3::ONE, intensity: 1.0 };
                     let image = renderer.factored(&gpu, &shading, 256, 256)?;
                     image.to_rgb().write_png(&dir.join(format!("{name}_{channels}_{tag}.png")))?;
@@ -95,10 +106,22 @@ fn main() -> brdfpaint::error::Result<()> {
             }
         }
         println!(
-            "| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.2} | {:.2} |",
-            row[0].key, row[0].darkest, row[1].key, row[1].darkest, row[0].darkest_over_brightest, row[1].darkest_over_brightest
+            "| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.2} | {:.2} | {:.3} | {:.3} |",
+            row[0].key,
+            row[0].darkest,
+            row[1].key,
+            row[1].darkest,
+            row[0].darkest_over_brightest,
+            row[1].darkest_over_brightest,
+            own[0].last().unwrap(),
+            own[1].last().unwrap()
         );
     }
-    println!("\ninvent colours (> {INVENTED} of lit pixels): independent {} of {}, coupled {} of {}", count[0], paths.len(), count[1], paths.len());
+    println!("\ninvent colours (> {INVENTED} of lit pixels): independent {} of {}, default {} of {}", count[0], paths.len(), count[1], paths.len());
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    println!("own-scene relative RMS, median: independent {:.3}, default {:.3}", median(&mut own[0]), median(&mut own[1]));
     Ok(())
 }

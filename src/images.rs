@@ -5,6 +5,7 @@
 pub mod env;
 mod env_read;
 mod painting;
+pub mod palette;
 mod rows;
 pub mod text;
 pub mod tone;

@@ -38,10 +38,11 @@ use crate::factor::cache::Cache;
 use crate::factor::Settings;
 use crate::images::{neighbours4, Painting, Shrink};
 use crate::note::Note;
-use crate::pipeline::{self, Fitted, Options};
+use crate::pipeline::{Fitted, Options};
 use crate::scene::{sphere_mesh, Camera, Light, Projection, Scene};
 use crate::sample::{Erosion, PaintedView, SceneSampler};
 
+pub mod colours;
 pub mod edges;
 mod light;
 mod segment;
@@ -680,7 +681,7 @@ pub fn fit_in(path: &Path, ask: &Ask, opts: &Options, cache: Option<&Cache>) -> 
     let mut sampler = SceneSampler::new()?;
     let geometry = sampler.geometry(&scene, painting.width, painting.height, Erosion::default())?;
     let view = PaintedView { name: name.clone(), source: format!("{name} (lit sphere)"), geometry, painting };
-    let mut fitted = pipeline::fit(std::slice::from_ref(&view), opts, cache)?;
+    let mut fitted = colours::fit(&view, opts, cache)?;
     // Where the disk is, how the picture was read and how sure the light is come first,
     // with the material's provenance.
     let undecided = estimate.filter(|e| e.undecided).map(|e| Note::LightUndecided { picture: name.clone(), spread_deg: e.spread_deg });

@@ -70,6 +70,11 @@ pub enum Note {
     /// A lit sphere read physically or as drawn (`decided`: by `--style auto`, from its
     /// `tones` flat tones holding `share` of the disk).
     Style { picture: String, stylized: bool, decided: bool, tones: usize, share: f64 },
+    /// A material fitted with coupled channels (and the identity mapping when `identity`):
+    /// fitted channel by channel with the mapping of least error, a share `before` of a
+    /// sphere's lit pixels took colours the paintings do not have under a moved light; now
+    /// `after`.
+    KeptColours { identity: bool, before: f64, after: f64 },
     /// A scene with several cameras or lights (`what`), of which the first (`used`) is used.
     FirstOfMany { scene: String, what: &'static str, count: usize, used: String },
 }
@@ -101,6 +106,8 @@ pub enum Remedy {
     GiveLight,
     /// Choose how a lit sphere is read, physical or stylized.
     Style,
+    /// Choose the colour channels' fit or the log mapping.
+    Colours,
 }
 
 impl Note {
@@ -119,6 +126,7 @@ impl Note {
             Note::Disk { given: false, .. } => Some(Remedy::GiveDisk),
             Note::LightUndecided { .. } | Note::LightBehind { .. } => Some(Remedy::GiveLight),
             Note::Style { decided: true, .. } => Some(Remedy::Style),
+            Note::KeptColours { .. } => Some(Remedy::Colours),
             Note::Style { decided: false, .. } => None,
             Note::Page { .. }
             | Note::TonesLobe { .. }
@@ -237,6 +245,13 @@ impl fmt::Display for Note {
             Note::FirstOfMany { scene, what, count, used } => {
                 write!(f, "{} has {count} {what}; {} is used (the first in node order), the others are ignored", one_line(scene), one_line(used))
             }
+            Note::KeptColours { identity, before, after } => write!(
+                f,
+                "colours fitted together{}: fitted one channel at a time, {:.0}% of a sphere's lit pixels took colours the paintings do not have under a moved light; now {:.0}%",
+                if *identity { ", with the identity mapping" } else { "" },
+                100.0 * before,
+                100.0 * after
+            ),
         }
     }
 }
@@ -269,11 +284,12 @@ mod tests {
             Note::LightBehind { picture: "m.exr".into() },
             Note::Style { picture: "toon.png".into(), stylized: true, decided: true, tones: 3, share: 0.97 },
             Note::Style { picture: "clay.png".into(), stylized: false, decided: false, tones: 1, share: 0.2 },
+            Note::KeptColours { identity: true, before: 0.2, after: 0.0 },
         ];
         for note in &notes {
             let line = note.to_string();
             assert!(!line.contains('\n') && !line.contains("--"), "{line}");
         }
-        assert_eq!(notes.iter().filter(|n| n.remedy().is_some()).count(), 13);
+        assert_eq!(notes.iter().filter(|n| n.remedy().is_some()).count(), 14);
     }
 }

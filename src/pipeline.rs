@@ -55,11 +55,16 @@ pub struct Options {
     /// A robust solve of the product ([`Prepared::solve_robust`]) instead of least squares:
     /// `None` by default; a stylized lit sphere asks for one.
     pub robust: Option<Robust>,
+    /// Whether a lit sphere whose fit takes colours the picture does not have under moved
+    /// lights is fitted again with coupled channels and with the identity mapping
+    /// ([`crate::litsphere::colours`]). On by default; `brdfpaint fit` turns it off when
+    /// told the channels or the mapping.
+    pub keep_colours: bool,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Options { kind: Kind::Uniform, settings: Settings::default(), mapping: Mapping::Auto, map: MapOptions::default(), base: BaseChoice::None, difference: DifferenceChoice::Auto, robust: None }
+        Options { kind: Kind::Uniform, settings: Settings::default(), mapping: Mapping::Auto, map: MapOptions::default(), base: BaseChoice::None, difference: DifferenceChoice::Auto, robust: None, keep_colours: true }
     }
 }
 

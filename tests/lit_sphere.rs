@@ -346,11 +346,11 @@ fn a_live_toon_lit_sphere_is_read_as_drawn_as_fit_reads_it() {
     let path = Path::new(MATCAPS).join("toon.exr");
     let ctx = HeadlessContext::new().unwrap();
     let mut renderer = Renderer::new(ctx.gl()).unwrap();
-    let sphere = SphereSession::open(&path, None).unwrap();
+    let mut sphere = SphereSession::open(&path, None).unwrap();
     assert!(sphere.stylization.stylized, "{:?}", sphere.stylization);
     let mut session = PaintSession::new(Settings::default(), Mapping::Auto);
-    sphere.start(&mut renderer, &mut session).unwrap();
-    session.settle().unwrap();
+    let k = sphere.start(&mut renderer, &mut session).unwrap();
+    sphere.settle(&mut renderer, &mut session, k).unwrap();
     let cli = litsphere::fit(&path, None, &Options::default(), None).unwrap();
     ctx.make_current().unwrap();
     assert!(cli.stylization.stylized);

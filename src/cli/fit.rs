@@ -167,14 +167,17 @@ pub(super) struct FitArgs {
     /// Laplacian smoothing weight of every factor (default: 1e-5 for 1D, 1e-4 for 2D).
     #[arg(long, allow_negative_numbers = true)]
     lambda: Option<f64>,
-    /// Log mapping: auto, identity, offset[:A], inverted[:A].
-    #[arg(long, default_value = "auto")]
-    mapping: Mapping,
+    /// Log mapping: auto (the one of least error), identity, offset[:A], inverted[:A]
+    /// [default: auto]
+    #[arg(long)]
+    mapping: Option<Mapping>,
     /// Colour channels: independent (each channel on its own, as in the thesis) or coupled
-    /// (the shading's shape fitted on luminance, its colour as a smoother quantity that
-    /// keeps the painting's colours where the paintings leave it open).
-    #[arg(long, value_name = "HOW", default_value = "independent")]
-    channels: Channels,
+    /// (the shading's shape fitted on luminance, its colour one table at a time, the
+    /// painting's colour where the paintings leave it open). Default: independent, and
+    /// coupled (then with the identity mapping) when independent channels would take colours
+    /// the paintings do not have under a moved light
+    #[arg(long, value_name = "HOW")]
+    channels: Option<Channels>,
     /// An analytic base under the product of a uniform fit (the product is fitted to
     /// S / B): auto (the lobe of the classic family, GGX, Blinn-Phong, Phong, Ward,
     /// Ashikhmin-Shirley, Oren-Nayar or Minnaert, that fits the paintings as closely as their
@@ -239,8 +242,9 @@ fn options(args: &FitArgs) -> Result<Options> {
     }
     let mut opts = Options::new(args.kind.kind(), args.factors.dim(), args.res, args.lambda, args.uv_res)?;
     opts.difference = args.theta_d;
-    opts.mapping = args.mapping;
-    opts.settings.channels = args.channels;
+    opts.mapping = args.mapping.unwrap_or_default();
+    opts.settings.channels = args.channels.unwrap_or_default();
+    opts.keep_colours = args.channels.is_none() && args.mapping.is_none_or(|m| m == Mapping::Auto);
     opts.map.terms = args.terms.unwrap_or(opts.map.terms);
     opts.map.method = match args.map_fit {
         Some(MapFitArg::Greedy) => map::Method::Greedy,
@@ -317,14 +321,14 @@ fn run_merl(merl_path: &Path, args: &FitArgs, settings: &Settings) -> Result<()>
     let (pattern, values): (Pattern, _) = Pattern::from_samples(&samples)?;
     let prepared = prepare(&pattern, settings)?;
     let start = Instant::now();
-    let fit = prepared.solve(&values, args.mapping)?;
+    let fit = prepared.solve(&values, args.mapping.unwrap_or_default())?;
     let solve_s = start.elapsed().as_secs_f64();
     let provenance =
         pipeline::provenance(vec![merl_path.display().to_string()], Some(fit.errors), pattern.len(), prepared.prepare_s, solve_s);
     let plain = Material::from_fit(settings, &fit, provenance.clone())?;
     let blocks = lobe::Blocks::of_directions(&pattern);
     let judged = lobe::Judged { pattern: &pattern, values: &values, blocks: &blocks };
-    let material = lobe::fit_based(&prepared, judged, settings, args.mapping, args.base, Cache::user().as_ref(), provenance)?.unwrap_or(plain);
+    let material = lobe::fit_based(&prepared, judged, settings, args.mapping.unwrap_or_default(), args.base, Cache::user().as_ref(), provenance)?.unwrap_or(plain);
     pipeline::save_material(&material, &args.out, &[merl_path])?;
     println!(
         "{} samples, {} unknowns: prepare {:.1} ms ({}), solve {:.2} ms",
@@ -431,6 +435,7 @@ pub(super) fn say(note: &Note) {
         Remedy::GiveDisk => "--disk CX,CY,R gives it",
         Remedy::GiveLight => "--light X,Y,Z gives it",
         Remedy::Style => "--style physical|stylized chooses",
+        Remedy::Colours => "--channels independent keeps the thesis's fit",
     });
     let prefix = if note.is_warning() { "" } else { "note: " };
     match hint {

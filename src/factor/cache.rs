@@ -81,8 +81,15 @@ impl Cache {
         if settings.channels == Channels::Coupled {
             // Two systems, each its own file: the luminance's is the independent fit's.
             let (luminance, first) = self.prepare(pattern, &settings.luminance())?;
-            let (chroma, second) = self.prepare(pattern, &settings.chroma())?;
-            let outcome = if first == Outcome::Hit { second } else { first };
+            let mut outcome = first;
+            let mut chroma = Vec::new();
+            for part in settings.chroma() {
+                let (system, then) = self.prepare(pattern, &part)?;
+                if outcome == Outcome::Hit {
+                    outcome = then;
+                }
+                chroma.push(system);
+            }
             return Ok((Prepared::couple(settings, luminance, chroma), outcome));
         }
         if settings.factors.iter().any(|f| matches!(f.input, Input::Custom(_))) {

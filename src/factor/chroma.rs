@@ -13,10 +13,13 @@
 //! red painting's shading is carried by its red channel and a grey one's by all three. The
 //! split is linear, so both parts are solves of prepared systems (thesis 3.2.2 holds):
 //! - the luminance on the system of the settings as given, today's fit;
-//! - the chroma on a second system ([`Settings::chroma`]), smoother, damped, and with a ridge
-//!   toward the painting's mean chroma: where the painting does not say what colour a
-//!   direction has, it has the painting's colour; where it does (a Gooch painting's cool
-//!   side, a painted rim), the samples outweigh the prior.
+//! - the chroma table by table ([`Settings::chroma`]: one system per factor, that factor
+//!   alone): stage by stage, the table that explains most of what is left of the samples'
+//!   chroma takes it. One table's least-squares fit is a weighted mean of the samples' chroma
+//!   at each node, so two tables cannot hold large opposite hues that one view only showed
+//!   together, and a ridge keeps the painting's mean chroma on nodes no sample reaches:
+//!   where the painting says what colour a direction has (a Gooch painting's cool side, a
+//!   painted rim), the samples outweigh it.
 //!
 //! The tables stay RGB: each is $e^{\tilde L_j + \tilde\rho_{j,c}}$, the product of the two.
 //! The offset and inverted mappings apply their constant after the product (eqs. 3.14,
@@ -38,11 +41,12 @@ use crate::error::{Error, Result};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Channels {
-    /// Luminance with the settings as given, chroma smoother and drawn to the painting's
-    /// mean colour (this module). Opt-in: its damping and ridge also act where the samples
-    /// show a hue change (a white highlight on a coloured body), see BENCHMARKS.md.
+    /// Luminance with the settings as given, chroma one table at a time and drawn to the
+    /// painting's mean colour where no sample says otherwise (this module).
     Coupled,
-    /// Each channel on its own, as in the thesis: the default.
+    /// Each channel on its own, as in the thesis: the default, which a lit sphere leaves for
+    /// coupled channels when it takes colours the picture does not have
+    /// (`litsphere::colours`).
     #[default]
     Independent,
 }
@@ -77,20 +81,10 @@ impl FromStr for Channels {
 /// Rec. 709 luminance weights of linear sRGB primaries (the colour space paintings decode to).
 pub const LUMA: [f64; 3] = [0.2126, 0.7152, 0.0722];
 
-/// The chroma's Laplacian weight over the luminance's, per directional factor. The smoothing
-/// term grows with $\lambda^2$: 10 makes a hue change a hundred times dearer than the same
-/// change of brightness, so colour moves over the whole table, not between nodes.
-pub const CHROMA_SMOOTH_GAIN: f64 = 10.0;
-
-/// First-difference damping $\mu$ of every directional factor's chroma. The term is $\mu N
-/// \int |\nabla\tilde\rho|^2$ against the samples' $\sum_i r_i^2$ over the same $N$ samples:
-/// a hue ramp the samples show costs a hundredth of leaving it out, so painted colour wins;
-/// a ramp they do not show (the near-null direction of one view) costs only this, and goes.
-pub const CHROMA_DAMP: f64 = 1e-2;
-
-/// Ridge $\rho$ of every factor's chroma toward its share of the painting's mean chroma: by
-/// the same count as [`CHROMA_DAMP`], a node reached by more than a hundredth of an even
-/// share of the samples takes their colour, one reached by none the painting's.
+/// Ridge $\rho$ of a factor's chroma toward the painting's mean chroma. The term is $\rho N
+/// \int \tilde\rho^2$ against the samples' $\sum_i r_i^2$ over the same $N$ samples: a node
+/// reached by more than a hundredth of an even share of the samples takes their colour, one
+/// reached by none the painting's.
 pub const CHROMA_RIDGE: f64 = 1e-2;
 
 impl Settings {
@@ -99,52 +93,59 @@ impl Settings {
         Settings { channels: Channels::Independent, ..self.clone() }
     }
 
-    /// The system of the chroma ([`CHROMA_SMOOTH_GAIN`], [`CHROMA_DAMP`], [`CHROMA_RIDGE`]).
-    /// The uv factor keeps its smoothing and damping: a texture's colour edges are painted
-    /// detail, not extrapolation. No light prior: it shapes brightness, not colour.
-    pub fn chroma(&self) -> Settings {
-        let mut s = self.luminance();
-        s.light_prior = None;
-        for f in &mut s.factors {
-            if f.input != Input::Uv {
-                f.smooth *= CHROMA_SMOOTH_GAIN;
-                f.damp = f.damp.max(CHROMA_DAMP);
-            }
-            f.ridge = f.ridge.max(CHROMA_RIDGE);
-        }
-        s
+    /// The chroma's systems, one per factor, each that factor alone: the product's hue is
+    /// then one table's, never the sum of two tables' hues that the samples only showed
+    /// together (the near-null direction of one view). Smoothing and damping as the
+    /// luminance's (one table alone has no near-null direction to damp), [`CHROMA_RIDGE`] at
+    /// least. No light prior: it shapes brightness.
+    pub fn chroma(&self) -> Vec<Settings> {
+        self.factors
+            .iter()
+            .map(|f| {
+                let mut f = f.clone();
+                f.ridge = f.ridge.max(CHROMA_RIDGE);
+                Settings { factors: vec![f], light_prior: None, ..self.luminance() }
+            })
+            .collect()
     }
 }
 
-/// The chroma half of a coupled system: its prepared system and the ridge's weight per node
-/// (the ridge pulls toward a target, which moves only the right-hand side).
+/// One factor's chroma system: the factor's index, its prepared system alone, and the
+/// ridge's weight per node ($\rho N h^d$; the ridge pulls toward a target, which moves only
+/// the right-hand side).
+struct Part {
+    factor: usize,
+    system: Box<Prepared>,
+    ridge: f64,
+}
+
+/// The chroma half of a coupled system. The uv factor, where there is one, takes the
+/// samples' colour first (a texture's colour is where it was painted); then the directional
+/// factors, stage by stage, each the one whose table explains most of what is left.
 pub(crate) struct Coupled {
-    pub(crate) chroma: Box<Prepared>,
-    /// $\rho N h^d$ per node over the factor count: each factor takes an equal share of the
-    /// mean chroma, so their sum, the product's chroma, is the mean.
-    target: Vec<f64>,
+    parts: Vec<Part>,
 }
 
 impl Coupled {
-    pub(crate) fn new(chroma: Prepared) -> Coupled {
-        let (settings, design, _) = chroma.parts();
-        let n_samples = design.rows() as f64;
-        let count = settings.factors.len() as f64;
-        let target = settings
-            .factors
-            .iter()
-            .flat_map(|f| {
+    pub(crate) fn new(parts: Vec<Prepared>) -> Coupled {
+        let parts = parts
+            .into_iter()
+            .enumerate()
+            .map(|(factor, system)| {
+                let (settings, design, _) = system.parts();
+                let f = &settings.factors[0];
                 let cell = (1.0 / (f.res - 1) as f64).powi(f.dim() as i32);
-                std::iter::repeat_n(f.ridge * n_samples * cell / count, f.len())
+                let ridge = f.ridge * design.rows() as f64 * cell;
+                Part { factor, system: Box::new(system), ridge }
             })
             .collect();
-        Coupled { chroma: Box::new(chroma), target }
+        Coupled { parts }
     }
 
     /// Log-space tables for the right-hand side $\mathbf b = \mathbf A^\top\tilde{\mathbf f}$
     /// (plus any prior), `luminance` solving on the first system.
     pub(crate) fn apply(&self, luminance: &Prepared, b: &Mat<f64>) -> Mat<f64> {
-        let (_, design, _) = luminance.parts();
+        let (settings, design, _) = luminance.parts();
         let n = design.n;
         // Every sample's stencil in the first factor sums to 1, so that factor's rows of b
         // sum to the samples' log values (priors add rows that sum to zero).
@@ -154,14 +155,54 @@ impl Coupled {
         let alpha = weights(mean);
         let lum_mean: f64 = (0..3).map(|c| alpha[c] * mean[c]).sum();
         let y = luminance.solve_system(b);
+        let mut out = Mat::from_fn(n, 3, |i, _| (0..3).map(|k| alpha[k] * y[(i, k)]).sum::<f64>());
         let mut rhs = Mat::from_fn(n, 3, |i, c| b[(i, c)] - (0..3).map(|k| alpha[k] * b[(i, k)]).sum::<f64>());
-        for (i, t) in self.target.iter().enumerate() {
-            for c in 0..3 {
-                rhs[(i, c)] += t * (mean[c] - lum_mean);
-            }
+        let mut target = [0, 1, 2].map(|c| mean[c] - lum_mean);
+        let range = |j: usize| design.offsets[j]..design.offsets.get(j + 1).copied().unwrap_or(n);
+        let uv = settings.factors.iter().position(|f| f.input == Input::Uv);
+        if let Some(part) = uv.and_then(|j| self.parts.iter().find(|p| p.factor == j)) {
+            let (rho, _) = part.solve(&rhs, range(part.factor), target);
+            design.subtract_cross(&mut rhs, range(part.factor), &rho);
+            add_rows(&mut out, range(part.factor), &rho);
+            target = [0.0; 3];
         }
-        let rho = self.chroma.solve_system(&rhs);
-        Mat::from_fn(n, 3, |i, c| (0..3).map(|k| alpha[k] * y[(i, k)]).sum::<f64>() + rho[(i, c)])
+        // Stage by stage, the directional factor that explains most of what is left takes
+        // it: each stage's table is a weighted mean of residual chroma, so a hue that two
+        // tables only showed together cannot be split into two large opposite hues.
+        let mut left: Vec<&Part> = self.parts.iter().filter(|p| Some(p.factor) != uv).collect();
+        while !left.is_empty() {
+            let solved: Vec<(Mat<f64>, f64)> = left.iter().map(|p| p.solve(&rhs, range(p.factor), target)).collect();
+            let k = (0..solved.len()).max_by(|&a, &b| solved[a].1.total_cmp(&solved[b].1)).unwrap_or(0);
+            let part = left.swap_remove(k);
+            let rho = &solved[k].0;
+            if !left.is_empty() {
+                design.subtract_cross(&mut rhs, range(part.factor), rho);
+            }
+            add_rows(&mut out, range(part.factor), rho);
+            target = [0.0; 3];
+        }
+        out
+    }
+}
+
+impl Part {
+    /// The factor's chroma from its rows of `rhs` and the ridge toward `target`, and how much
+    /// of the samples' chroma it explains: $\tilde\rho^\top \mathbf r$, the fall of the
+    /// regularized least-squares cost from $\tilde\rho = 0$.
+    fn solve(&self, rhs: &Mat<f64>, rows: std::ops::Range<usize>, target: [f64; 3]) -> (Mat<f64>, f64) {
+        let r = Mat::from_fn(rows.len(), 3, |i, c| rhs[(rows.start + i, c)] + self.ridge * target[c]);
+        let rho = self.system.solve_system(&r);
+        let explained = (0..rows.len()).flat_map(|i| (0..3).map(move |c| (i, c))).map(|(i, c)| rho[(i, c)] * r[(i, c)]).sum();
+        (rho, explained)
+    }
+}
+
+/// `out`'s rows `rows` plus `add`.
+fn add_rows(out: &mut Mat<f64>, rows: std::ops::Range<usize>, add: &Mat<f64>) {
+    for (i, r) in rows.enumerate() {
+        for c in 0..3 {
+            out[(r, c)] += add[(i, c)];
+        }
     }
 }
 
@@ -216,18 +257,14 @@ mod tests {
     }
 
     #[test]
-    fn chroma_settings_are_smoother_damped_and_ridged() {
+    fn chroma_systems_are_one_factor_each_and_ridged() {
         let s = Settings::four_factor(1, 16, 8);
-        let c = s.chroma();
-        assert_eq!(c.channels, Channels::Independent);
-        for (a, b) in s.factors.iter().zip(&c.factors) {
-            assert!(b.ridge >= CHROMA_RIDGE);
-            if a.input != Input::Uv {
-                assert_eq!(b.smooth, a.smooth * CHROMA_SMOOTH_GAIN);
-                assert!(b.damp >= CHROMA_DAMP);
-            } else {
-                assert_eq!((b.smooth, b.damp), (a.smooth, a.damp));
-            }
+        let parts = s.chroma();
+        assert_eq!(parts.len(), s.factors.len());
+        for (a, part) in s.factors.iter().zip(&parts) {
+            assert_eq!((part.factors.len(), part.channels, part.light_prior), (1, Channels::Independent, None));
+            let b = &part.factors[0];
+            assert!(b.ridge >= CHROMA_RIDGE && b.smooth == a.smooth && b.damp == a.damp);
         }
     }
 }

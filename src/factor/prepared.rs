@@ -520,8 +520,8 @@ impl Prepared {
 
     /// The coupled system of `settings` from the luminance's and the chroma's
     /// ([`Settings::luminance`], [`Settings::chroma`]), prepared on the same pattern.
-    pub(crate) fn couple(settings: &Settings, luminance: Prepared, chroma: Prepared) -> Prepared {
-        let prepare_s = luminance.prepare_s + chroma.prepare_s;
+    pub(crate) fn couple(settings: &Settings, luminance: Prepared, chroma: Vec<Prepared>) -> Prepared {
+        let prepare_s = luminance.prepare_s + chroma.iter().map(|p| p.prepare_s).sum::<f64>();
         Prepared { settings: settings.clone(), coupled: Some(Coupled::new(chroma)), prepare_s, ..luminance }
     }
 }
@@ -545,7 +545,7 @@ pub fn errors(predicted: &[[f64; 3]], values: &[[f64; 3]]) -> Errors {
 pub fn prepare(pattern: &Pattern, settings: &Settings) -> Result<Prepared> {
     if settings.channels == Channels::Coupled {
         let luminance = prepare(pattern, &settings.luminance())?;
-        let chroma = prepare(pattern, &settings.chroma())?;
+        let chroma = settings.chroma().iter().map(|s| prepare(pattern, s)).collect::<Result<Vec<_>>>()?;
         return Ok(Prepared::couple(settings, luminance, chroma));
     }
     let start = Instant::now();

@@ -202,6 +202,27 @@ impl Design {
         self.row_ptr.len() - 1
     }
 
+    /// `rhs` less $\mathbf A_j^\top \mathbf A_k \mathbf y_k$ on every column outside `block`:
+    /// what the other factors' right-hand sides keep once the unknowns `block` (one factor's,
+    /// `y` of them) explain their part of the samples.
+    pub fn subtract_cross(&self, rhs: &mut faer::Mat<f64>, block: std::ops::Range<usize>, y: &faer::Mat<f64>) {
+        for i in 0..self.rows() {
+            let span = self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize;
+            let entries = || self.row_col[span.clone()].iter().map(|&c| c as usize).zip(&self.row_val[span.clone()]);
+            let mut p = [0.0; 3];
+            for (col, w) in entries().filter(|(col, _)| block.contains(col)) {
+                for c in 0..3 {
+                    p[c] += w * y[(col - block.start, c)];
+                }
+            }
+            for (col, w) in entries().filter(|(col, _)| !block.contains(col)) {
+                for c in 0..3 {
+                    rhs[(col, c)] -= w * p[c];
+                }
+            }
+        }
+    }
+
     /// $\mathbf b = \mathbf A^\top \tilde{\mathbf f}$ for three channels, with the log
     /// mapping fused in: `logs(c, x)` replaces `x` (linear values of channel `c`) with their
     /// log-space values. `out[i]` holds unknown `i`'s three channels (and a zero pad lane).

@@ -95,9 +95,11 @@ impl Snapshot {
 }
 
 /// The options `brdfpaint fit` fits a scene's paintings with when given no flags, under the
-/// session's factor settings and mapping.
+/// session's factor settings and mapping: a mapping the painter chose is kept as `fit
+/// --mapping` keeps it.
 pub fn options(settings: &crate::factor::Settings, mapping: crate::factor::Mapping) -> Options {
-    Options { settings: settings.clone(), mapping, base: BaseChoice::Auto, ..Options::default() }
+    let keep_colours = mapping == crate::factor::Mapping::Auto;
+    Options { settings: settings.clone(), mapping, base: BaseChoice::Auto, keep_colours, ..Options::default() }
 }
 
 /// Fits the snapshots as `brdfpaint fit` fits the same paintings: load, read, fit. Without

@@ -28,7 +28,8 @@ use super::session::PaintSession;
 use super::view::PaintView;
 use crate::error::{Error, Result};
 use crate::gl::HeadlessContext;
-use crate::factor::{Mapping, Settings};
+use crate::factor::{Channels, Mapping, Settings};
+use crate::images::palette::{Palette, INVENTED};
 use crate::litsphere::{self, LightEstimate, Picture, Stylization};
 use crate::render::Renderer;
 
@@ -263,6 +264,48 @@ impl SphereSession {
             };
             self.install(session, k, view)?;
         }
+        self.settle_colours(session)
+    }
+
+    /// [`PaintSession::settle`] as `fit --lit-sphere` fits ([`litsphere::colours::fit`]): the
+    /// thesis's fit, and while the fit invents colours each of [`litsphere::colours::TRIES`]
+    /// in turn, the first that does not (else the one that invents least) left in place. A mapping the painter chose is kept, as `fit
+    /// --mapping` keeps it.
+    fn settle_colours(&self, session: &mut PaintSession) -> Result<super::Refit> {
+        let with = |session: &PaintSession, channels: Channels| Settings { channels, ..session.settings().clone() };
+        let chosen = (session.settings().channels, session.mapping());
+        let guarded = litsphere::colours::TRIES.contains(&chosen);
+        if !(guarded || chosen == (Channels::Independent, Mapping::Auto)) {
+            return session.settle();
+        }
+        session.set_settings(with(session, Channels::Independent))?;
+        session.set_mapping(Mapping::Auto);
+        let mut refit = session.settle()?;
+        let palette = Palette::of_painting(&self.picture.painting);
+        let invented = |session: &PaintSession| session.live_material().map_or(0.0, |m| litsphere::colours::invented(m, &palette));
+        let first = invented(session);
+        if first <= INVENTED {
+            return Ok(refit);
+        }
+        let mut best = ((Channels::Independent, Mapping::Auto), first);
+        for (channels, mapping) in litsphere::colours::TRIES {
+            if best.1 <= INVENTED {
+                break;
+            }
+            session.set_settings(with(session, channels))?;
+            session.set_mapping(mapping);
+            refit = session.settle()?;
+            let after = invented(session);
+            if after < best.1 {
+                best = ((channels, mapping), after);
+            }
+        }
+        let ((channels, mapping), _) = best;
+        if (channels, mapping) == (session.settings().channels, session.mapping()) {
+            return Ok(refit);
+        }
+        session.set_settings(with(session, channels))?;
+        session.set_mapping(mapping);
         session.settle()
     }
 }

@@ -85,7 +85,7 @@ def main():
     record = []
     for env in envs:
         for k in range(a.per_env):
-            name, bsdf = MATERIALS[(k + len(record)) % len(MATERIALS)]
+            name, bsdf = MATERIALS[len(record) % len(MATERIALS)]
             yaw, pitch = float(rng.uniform(0, 360)), float(rng.uniform(-30, 30))
             img = render(bsdf, env, yaw, pitch, a.size, a.spp)
             c = np.clip(img[..., :3], 0, None)

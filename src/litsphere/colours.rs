@@ -1,0 +1,131 @@
+//! A lit sphere keeps its picture's colours under moved lights (issue 35).
+//!
+//! One picture shows one light and one view. Fitted as the thesis does (each channel on its
+//! own, the mapping of least error), the factors extrapolate each channel on its own where
+//! the picture is silent, and a grey MatCap can turn orange and cyan once the light moves
+//! behind it. Two things cause it: the near-null direction of one view, which coupled
+//! channels close ([`Channels::Coupled`]); and the offset and inverted mappings, which
+//! subtract a constant after the product (eqs. 3.14, 3.16), so that where the product nears
+//! it a small hue difference becomes a large one, which the identity mapping does not do.
+//!
+//! Painted colour comes first, and a fit that keeps it is never touched: [`invented`]
+//! renders the material on a sphere under lights moved around it, and only a fit that
+//! invents colours ([`INVENTED`]) is fitted again, [`TRIES`] in turn, until one keeps the
+//! picture's colours (else the one that invents least is kept): each try gives up more of
+//! the picture's fidelity than the one before.
+
+use glam::DVec3;
+
+use crate::brdf::Reflectance;
+use crate::error::Result;
+use crate::factor::cache::Cache;
+use crate::factor::{Channels, Mapping, Query, Settings};
+use crate::images::palette::{Palette, FRAMES, INVENTED};
+use crate::material::Material;
+use crate::note::Note;
+use crate::pipeline::{self, Fitted, Options};
+use crate::sample::PaintedView;
+
+/// The fits tried after the thesis's, in order: coupled channels, then coupled channels
+/// with the identity mapping.
+pub const TRIES: [(Channels, Mapping); 2] = [(Channels::Coupled, Mapping::Auto), (Channels::Coupled, Mapping::Identity)];
+
+/// [`pipeline::fit`] of one lit-sphere view, fitted again with [`TRIES`] in turn while
+/// `opts.keep_colours` and the material invents colours; the first that does not (else the
+/// one that invents least) is kept, with a note.
+pub fn fit(view: &PaintedView, opts: &Options, cache: Option<&Cache>) -> Result<Fitted> {
+    let views = std::slice::from_ref(view);
+    let fitted = pipeline::fit(views, opts, cache)?;
+    if !opts.keep_colours {
+        return Ok(fitted);
+    }
+    let palette = Palette::of_painting(&view.painting);
+    let first = invented(&fitted.material, &palette);
+    let mut best = (fitted, first);
+    for (channels, mapping) in TRIES {
+        if best.1 <= INVENTED {
+            break;
+        }
+        let o = Options { settings: Settings { channels, ..opts.settings.clone() }, mapping, ..opts.clone() };
+        let mut refit = pipeline::fit(views, &o, cache)?;
+        let after = invented(&refit.material, &palette);
+        if after < best.1 {
+            refit.notes.push(Note::KeptColours { identity: mapping == Mapping::Identity, before: first, after });
+            best = (refit, after);
+        }
+    }
+    Ok(best.0)
+}
+
+/// Normals across the sphere's diameter: 64 puts about 3200 samples on the disk, so one
+/// sample is 0.03% of it, and a light 22.5° short of straight behind lights a crescent of
+/// about 190 of them.
+const ACROSS: usize = 64;
+
+/// Lights around the vertical axis: twice [`FRAMES`], so one lands 22.5° short of straight
+/// behind, where a perspective view of a model (the sweep of `study::colour`) sees lit rims
+/// that an orthographic sphere lit from straight behind does not show.
+const AROUND: usize = 2 * FRAMES;
+
+/// The largest share, over [`AROUND`] white lights moved around the vertical axis from the
+/// view, of a sphere's lit pixels (seen from +z; each frame's floor its own brightest, as
+/// [`Palette::invented_among`] judges) that `palette` does not hold.
+pub fn invented(material: &Material, palette: &Palette) -> f64 {
+    // A light straight behind lights no point an orthographic view sees: that frame shows
+    // only the floor of the light factor, no shading, and is left out.
+    (0..AROUND)
+        .filter(|&k| 2 * k != AROUND)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / AROUND as f64;
+            palette.invented_among(&frame(material, DVec3::new(a.sin(), 0.0, a.cos())))
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The sphere's colours under a white light towards `light` (view frame), one per normal.
+fn frame(material: &Material, light: DVec3) -> Vec<[f64; 3]> {
+    let mut out = Vec::with_capacity(ACROSS * ACROSS);
+    for j in 0..ACROSS {
+        for i in 0..ACROSS {
+            let (x, y) = ((i as f64 + 0.5) / ACROSS as f64 * 2.0 - 1.0, 1.0 - (j as f64 + 0.5) / ACROSS as f64 * 2.0);
+            let r2 = x * x + y * y;
+            if r2 >= 1.0 {
+                continue;
+            }
+            let n = DVec3::new(x, y, (1.0 - r2).sqrt());
+            let (t, b) = n.any_orthonormal_pair();
+            let local = |d: DVec3| DVec3::new(d.dot(t), d.dot(b), d.dot(n));
+            out.push(material.shading(&Query::at(local(light), local(DVec3::Z))));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::brdf::Analytic;
+    use crate::factor::prepare;
+    use crate::material::Provenance;
+    use crate::factor::Pattern;
+
+    /// A material fitted from one view of `model`'s sphere lit from `light`.
+    fn fitted(model: &Analytic, light: DVec3, mapping: Mapping) -> (Material, Palette) {
+        let view = crate::brdf::SphereView::new(light, 64);
+        let (queries, values): (Vec<Query>, Vec<[f64; 3]>) = view.pixels().into_iter().map(|p| (p.query, model.shading(&p.query))).unzip();
+        let settings = Settings::default();
+        let prepared = prepare(&Pattern::new(queries, false), &settings).unwrap();
+        let fit = prepared.solve(&values, mapping).unwrap();
+        (Material::from_fit(&settings, &fit, Provenance::default()).unwrap(), Palette::new(&values))
+    }
+
+    #[test]
+    fn a_tinted_lambertian_sphere_keeps_its_colour_and_a_grey_palette_refuses_it() {
+        let model = Analytic::Lambert { albedo: [0.7, 0.45, 0.2] };
+        let (material, palette) = fitted(&model, DVec3::new(-0.3, 0.5, 1.0), Mapping::Identity);
+        assert!(invented(&material, &palette) < 0.01, "{}", invented(&material, &palette));
+        // The same material judged against grey paintings: every lit pixel is off them.
+        let grey = Palette::new(&[[0.5; 3], [0.2; 3]]);
+        assert!(invented(&material, &grey) > 0.99, "{}", invented(&material, &grey));
+    }
+}
