@@ -173,9 +173,9 @@ pub(super) struct FitArgs {
     mapping: Option<Mapping>,
     /// Colour channels: independent (each channel on its own, as in the thesis) or coupled
     /// (the shading's shape fitted on luminance, its colour one table at a time, the
-    /// painting's colour where the paintings leave it open). Default: independent, and
-    /// coupled (then with the identity mapping) when independent channels would take colours
-    /// the paintings do not have under a moved light
+    /// painting's colour where the paintings leave it open). Default: independent; for a
+    /// lit sphere also coupled (then with the identity mapping) when independent channels
+    /// would take colours the picture does not have under a moved light
     #[arg(long, value_name = "HOW")]
     channels: Option<Channels>,
     /// An analytic base under the product of a uniform fit (the product is fitted to
