@@ -59,7 +59,7 @@ pub fn fit(view: &PaintedView, opts: &Options, cache: Option<&Cache>) -> Result<
 
 /// Normals across the sphere's diameter: 64 puts about 3200 samples on the disk, so one
 /// sample is 0.03% of it, and a light 22.5° short of straight behind lights a crescent of
-/// about 190 of them.
+/// about 120 of them ((1 + cos 157.5°) / 2 of the disk).
 const ACROSS: usize = 64;
 
 /// Lights around the vertical axis: twice [`FRAMES`], so one lands 22.5° short of straight
