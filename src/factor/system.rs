@@ -204,21 +204,31 @@ impl Design {
 
     /// `rhs` less $\mathbf A_j^\top \mathbf A_k \mathbf y_k$ on every column outside `block`:
     /// what the other factors' right-hand sides keep once the unknowns `block` (one factor's,
-    /// `y` of them) explain their part of the samples.
+    /// `y` of them) explain their part of the samples. The samples' share is gathered per row,
+    /// then scattered as a right-hand side is ([`Design::transpose_apply`]).
     pub fn subtract_cross(&self, rhs: &mut faer::Mat<f64>, block: std::ops::Range<usize>, y: &faer::Mat<f64>) {
-        for i in 0..self.rows() {
-            let span = self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize;
-            let entries = || self.row_col[span.clone()].iter().map(|&c| c as usize).zip(&self.row_val[span.clone()]);
-            let mut p = [0.0; 3];
-            for (col, w) in entries().filter(|(col, _)| block.contains(col)) {
-                for c in 0..3 {
-                    p[c] += w * y[(col - block.start, c)];
+        use rayon::prelude::*;
+        let explained: Vec<[f64; 3]> = (0..self.rows())
+            .into_par_iter()
+            .map(|i| {
+                let span = self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize;
+                let mut p = [0.0; 3];
+                for (&col, &w) in self.row_col[span.clone()].iter().zip(&self.row_val[span]) {
+                    let col = col as usize;
+                    if block.contains(&col) {
+                        for c in 0..3 {
+                            p[c] += w * y[(col - block.start, c)];
+                        }
+                    }
                 }
-            }
-            for (col, w) in entries().filter(|(col, _)| !block.contains(col)) {
-                for c in 0..3 {
-                    rhs[(col, c)] -= w * p[c];
-                }
+                p
+            })
+            .collect();
+        let mut cross = vec![[0.0; 4]; self.n];
+        self.transpose_apply(&explained, &|_, _| {}, &mut cross);
+        for (col, x) in cross.iter().enumerate().filter(|(col, _)| !block.contains(col)) {
+            for c in 0..3 {
+                rhs[(col, c)] -= x[c];
             }
         }
     }
