@@ -269,8 +269,8 @@ impl SphereSession {
 
     /// [`PaintSession::settle`] as `fit --lit-sphere` fits ([`litsphere::colours::fit`]): the
     /// thesis's fit, and while the fit invents colours each of [`litsphere::colours::TRIES`]
-    /// in turn, the first that does not (else the one that invents least) left in place. A mapping the painter chose is kept, as `fit
-    /// --mapping` keeps it.
+    /// in turn, the first that does not (else the one that invents least) left in place. A
+    /// mapping the painter chose is kept, as `fit --mapping` keeps it.
     fn settle_colours(&self, session: &mut PaintSession) -> Result<super::Refit> {
         let with = |session: &PaintSession, channels: Channels| Settings { channels, ..session.settings().clone() };
         let chosen = (session.settings().channels, session.mapping());
