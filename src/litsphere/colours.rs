@@ -16,10 +16,10 @@
 
 use glam::DVec3;
 
-use crate::brdf::Reflectance;
+use crate::brdf::{Reflectance, SphereView};
 use crate::error::Result;
 use crate::factor::cache::Cache;
-use crate::factor::{Channels, Mapping, Query, Settings};
+use crate::factor::{Channels, Mapping, Settings};
 use crate::images::palette::{Palette, FRAMES, INVENTED};
 use crate::material::Material;
 use crate::note::Note;
@@ -31,8 +31,8 @@ use crate::sample::PaintedView;
 pub const TRIES: [(Channels, Mapping); 2] = [(Channels::Coupled, Mapping::Auto), (Channels::Coupled, Mapping::Identity)];
 
 /// [`pipeline::fit`] of one lit-sphere view, fitted again with [`TRIES`] in turn while
-/// `opts.keep_colours` and the material invents colours; the first that does not (else the
-/// one that invents least) is kept, with a note.
+/// `opts.keep_colours` and the material invents colours ([`choose`]), with a note when a try
+/// is kept.
 pub fn fit(view: &PaintedView, opts: &Options, cache: Option<&Cache>) -> Result<Fitted> {
     let views = std::slice::from_ref(view);
     let fitted = pipeline::fit(views, opts, cache)?;
@@ -41,20 +41,47 @@ pub fn fit(view: &PaintedView, opts: &Options, cache: Option<&Cache>) -> Result<
     }
     let palette = Palette::of_painting(&view.painting);
     let first = invented(&fitted.material, &palette);
-    let mut best = (fitted, first);
-    for (channels, mapping) in TRIES {
-        if best.1 <= INVENTED {
+    let mut refits = Vec::new();
+    let chosen = choose(first, |channels, mapping| {
+        let o = Options { settings: Settings { channels, ..opts.settings.clone() }, mapping, ..opts.clone() };
+        let refit = pipeline::fit(views, &o, cache)?;
+        let after = invented(&refit.material, &palette);
+        refits.push(refit);
+        Ok(after)
+    })?;
+    Ok(match chosen {
+        Some(Chosen { index, after }) => {
+            let mut refit = refits.swap_remove(index);
+            refit.notes.push(Note::KeptColours { identity: TRIES[index].1 == Mapping::Identity, before: first, after });
+            refit
+        }
+        None => fitted,
+    })
+}
+
+/// A try of [`TRIES`] kept over the thesis's fit: its index, and the share it invents.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Chosen {
+    pub index: usize,
+    pub after: f64,
+}
+
+/// Which fit keeps the picture's colours, given the share the thesis's fit invents (`first`)
+/// and `invented_with`, which fits with a try's channels and mapping and says the share that
+/// fit invents. The tries are made in turn while the best so far invents colours; the first
+/// that does not (else the one that invents least) is chosen, `None` for the thesis's own.
+pub fn choose(first: f64, mut invented_with: impl FnMut(Channels, Mapping) -> Result<f64>) -> Result<Option<Chosen>> {
+    let (mut least, mut chosen) = (first, None);
+    for (index, (channels, mapping)) in TRIES.into_iter().enumerate() {
+        if least <= INVENTED {
             break;
         }
-        let o = Options { settings: Settings { channels, ..opts.settings.clone() }, mapping, ..opts.clone() };
-        let mut refit = pipeline::fit(views, &o, cache)?;
-        let after = invented(&refit.material, &palette);
-        if after < best.1 {
-            refit.notes.push(Note::KeptColours { identity: mapping == Mapping::Identity, before: first, after });
-            best = (refit, after);
+        let after = invented_with(channels, mapping)?;
+        if after < least {
+            (least, chosen) = (after, Some(Chosen { index, after }));
         }
     }
-    Ok(best.0)
+    Ok(chosen)
 }
 
 /// Normals across the sphere's diameter: 64 puts about 3200 samples on the disk, so one
@@ -82,20 +109,18 @@ pub fn invented(material: &Material, palette: &Palette) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The sphere's colours under a white light towards `light` (view frame), one per normal.
+/// The sphere's colours under a white light towards `light` (view frame), one per normal
+/// the orthographic view from +z sees.
 fn frame(material: &Material, light: DVec3) -> Vec<[f64; 3]> {
     let mut out = Vec::with_capacity(ACROSS * ACROSS);
     for j in 0..ACROSS {
         for i in 0..ACROSS {
             let (x, y) = ((i as f64 + 0.5) / ACROSS as f64 * 2.0 - 1.0, 1.0 - (j as f64 + 0.5) / ACROSS as f64 * 2.0);
             let r2 = x * x + y * y;
-            if r2 >= 1.0 {
-                continue;
+            if r2 < 1.0 {
+                let n = DVec3::new(x, y, (1.0 - r2).sqrt());
+                out.push(material.shading(&SphereView::query(n, light, DVec3::Z)));
             }
-            let n = DVec3::new(x, y, (1.0 - r2).sqrt());
-            let (t, b) = n.any_orthonormal_pair();
-            let local = |d: DVec3| DVec3::new(d.dot(t), d.dot(b), d.dot(n));
-            out.push(material.shading(&Query::at(local(light), local(DVec3::Z))));
         }
     }
     out
@@ -105,7 +130,7 @@ fn frame(material: &Material, light: DVec3) -> Vec<[f64; 3]> {
 mod tests {
     use super::*;
     use crate::brdf::Analytic;
-    use crate::factor::prepare;
+    use crate::factor::{prepare, Query};
     use crate::material::Provenance;
     use crate::factor::Pattern;
 

@@ -29,7 +29,7 @@ use super::view::PaintView;
 use crate::error::{Error, Result};
 use crate::gl::HeadlessContext;
 use crate::factor::{Channels, Mapping, Settings};
-use crate::images::palette::{Palette, INVENTED};
+use crate::images::palette::Palette;
 use crate::litsphere::{self, LightEstimate, Picture, Stylization};
 use crate::render::Renderer;
 
@@ -272,40 +272,33 @@ impl SphereSession {
     /// in turn, the first that does not (else the one that invents least) left in place. A
     /// mapping the painter chose is kept, as `fit --mapping` keeps it.
     fn settle_colours(&self, session: &mut PaintSession) -> Result<super::Refit> {
-        let with = |session: &PaintSession, channels: Channels| Settings { channels, ..session.settings().clone() };
-        let chosen = (session.settings().channels, session.mapping());
-        let guarded = litsphere::colours::TRIES.contains(&chosen);
-        if !(guarded || chosen == (Channels::Independent, Mapping::Auto)) {
+        let thesis = (Channels::Independent, Mapping::Auto);
+        let current = (session.settings().channels, session.mapping());
+        if !(current == thesis || litsphere::colours::TRIES.contains(&current)) {
             return session.settle();
         }
-        session.set_settings(with(session, Channels::Independent))?;
-        session.set_mapping(Mapping::Auto);
+        let set = |session: &mut PaintSession, (channels, mapping): (Channels, Mapping)| -> Result<()> {
+            session.set_settings(Settings { channels, ..session.settings().clone() })?;
+            session.set_mapping(mapping);
+            Ok(())
+        };
+        set(session, thesis)?;
         let mut refit = session.settle()?;
         let palette = Palette::of_painting(&self.picture.painting);
         let invented = |session: &PaintSession| session.live_material().map_or(0.0, |m| litsphere::colours::invented(m, &palette));
         let first = invented(session);
-        if first <= INVENTED {
-            return Ok(refit);
-        }
-        let mut best = ((Channels::Independent, Mapping::Auto), first);
-        for (channels, mapping) in litsphere::colours::TRIES {
-            if best.1 <= INVENTED {
-                break;
-            }
-            session.set_settings(with(session, channels))?;
-            session.set_mapping(mapping);
+        let mut tried = None;
+        let chosen = litsphere::colours::choose(first, |channels, mapping| {
+            set(session, (channels, mapping))?;
             refit = session.settle()?;
-            let after = invented(session);
-            if after < best.1 {
-                best = ((channels, mapping), after);
-            }
-        }
-        let ((channels, mapping), _) = best;
-        if (channels, mapping) == (session.settings().channels, session.mapping()) {
+            tried = Some((channels, mapping));
+            Ok(invented(session))
+        })?;
+        let keep = chosen.map_or(thesis, |c| litsphere::colours::TRIES[c.index]);
+        if tried.is_none_or(|t| t == keep) {
             return Ok(refit);
         }
-        session.set_settings(with(session, channels))?;
-        session.set_mapping(mapping);
+        set(session, keep)?;
         session.settle()
     }
 }
