@@ -31,12 +31,12 @@
 
 use std::path::Path;
 
-use glam::{DMat3, DVec3, Mat4, Vec3};
+use glam::{DVec3, Mat4, Vec3};
 
 use crate::error::{Error, Result};
 use crate::factor::cache::Cache;
 use crate::factor::Settings;
-use crate::images::{neighbours4, Painting, Shrink};
+use crate::images::{Painting, Shrink};
 use crate::note::Note;
 use crate::pipeline::{Fitted, Options};
 use crate::scene::{sphere_mesh, Camera, Light, Projection, Scene};
@@ -45,13 +45,15 @@ use crate::sample::{Erosion, PaintedView, SceneSampler};
 pub mod colours;
 pub mod edges;
 mod light;
+mod locate;
 mod segment;
 pub mod style;
 pub mod texture;
 
 pub use light::{estimate_light, estimate_tone_light, highlight_lean, unlit_floor, LightEstimate, KEY, MIN_LIGHT_Z, UNDECIDED_DEG};
+pub use locate::{find_disk, locate, MIN_SEEN};
 pub use style::Style;
-use segment::{border_median, components, otsu, perceptual_distance};
+use locate::given_disk;
 
 /// Longest side a lit-sphere picture is fitted at: larger pictures are box-filtered down
 /// (a 512² disk holds about 200k samples; more add time, not information).
@@ -113,231 +115,6 @@ impl Located {
         let d = &self.disk;
         Note::Disk { picture: name.to_string(), cx: d.cx * scale, cy: d.cy * scale, r: d.r * scale, seen: self.seen, given: self.outline == Outline::Given }
     }
-}
-
-/// Least share of the outline inside the frame an edge-fitted circle must show to be taken
-/// as the sphere: a square's inscribed circle gets about 40% from its four sides (radial
-/// within 20°, within a pixel), a sphere whose shadow hides its lower third about 60%.
-pub const MIN_SEEN: f64 = 0.5;
-
-/// A circle's edge gradients turn with its arc (a turning of 0, [`edges::turning`]); a
-/// polygon's sides tangent to a circle keep their direction (-1): halfway tells them apart.
-/// (A square's sides cover half of its inscribed circle within tolerance, as a sphere does.)
-const STRAIGHT_TURNING: f64 = -0.5;
-
-/// A circle the edges support better than the segmentation's by this share of the outline
-/// replaces it: a clean MatCap's segmented circle has its whole outline and stays as it was.
-const BETTER_BY: f64 = 0.15;
-
-/// An edge circle this close to a square picture's inscribed one (a share of its radius,
-/// centre and radius) is the MatCap layout, and the disk is the inscribed circle exactly.
-const MATCAP_MATCH: f64 = 0.02;
-
-fn near(a: &Disk, b: &Disk, share: f64) -> bool {
-    let tol = share * b.r;
-    (a.cx - b.cx).hypot(a.cy - b.cy) <= tol && (a.r - b.r).abs() <= tol
-}
-
-/// Where the sphere is: [`find_disk`], with the share of the outline the picture shows.
-pub fn locate(p: &Painting, name: &str) -> Result<Located> {
-    let (w, h) = (p.width, p.height);
-    let has_alpha = p.alpha.iter().any(|&a| a < 0.5) && p.alpha.iter().any(|&a| a >= 0.5);
-    if has_alpha {
-        let mask: Vec<bool> = p.alpha.iter().map(|&a| a >= 0.5).collect();
-        let disk = outline_circle(&mask, Boundary::Coverage, w, h, name)?;
-        let edges = edges::points(std::slice::from_ref(&p.alpha), w, h);
-        return Ok(Located { disk, outline: Outline::Alpha, seen: edges::support(&edges, &disk, w, h).seen });
-    }
-    let key = border_median(p);
-    let distance: Vec<f32> = p.pixels.iter().map(|c| perceptual_distance(c, &key)).collect();
-    let max = distance.iter().cloned().fold(0.0f32, f32::max);
-    if max < 0.02 {
-        return Err(Error::input(format!("{name} is all background: no sphere to find")));
-    }
-    let t = otsu(&distance, max);
-    let like_border: Vec<bool> = distance.iter().map(|&d| d <= t).collect();
-    let background = connected_to_border(&like_border, w, h);
-    let mask: Vec<bool> = background.iter().map(|&b| !b).collect();
-    let edges = edges::points(&perceptual_channels(p), w, h);
-    let segmented = outline_circle(&mask, Boundary::Key, w, h, name);
-    let square = w.abs_diff(h) <= 1;
-    let inscribed = Disk { cx: w as f64 / 2.0, cy: h as f64 / 2.0, r: w.min(h) as f64 / 2.0 };
-    let by_edges = edge_circle(&edges, w, h, name);
-    match (segmented, by_edges) {
-        (Ok(disk), Ok(Some(e))) => {
-            let own = edges::support(&edges, &disk, w, h);
-            Ok(if e.seen_in_frame > own.seen_in_frame + BETTER_BY {
-                Located { disk: e.disk, outline: Outline::Edges, seen: e.seen }
-            } else {
-                Located { disk, outline: Outline::Background, seen: own.seen }
-            })
-        }
-        (Ok(disk), _) => Ok(Located { disk, outline: Outline::Background, seen: edges::support(&edges, &disk, w, h).seen }),
-        (Err(_), Ok(Some(e))) if !(square && near(&e.disk, &inscribed, MATCAP_MATCH)) => Ok(Located { disk: e.disk, outline: Outline::Edges, seen: e.seen }),
-        (Err(_), Err(two)) => Err(two),
-        (Err(_), _) if square => Ok(Located { disk: inscribed, outline: Outline::Inscribed, seen: edges::support(&edges, &inscribed, w, h).seen }),
-        (Err(e), _) => Err(e),
-    }
-}
-
-/// Where the sphere is: a circle fitted to the alpha channel when the picture has one, or
-/// else to what is not background (the pixels like the border's median colour, split by
-/// Otsu's threshold, that connect to the border), or, where that is not round (a sphere on
-/// a table with its shadow, on a textured background), to the arc of the outline the edges
-/// show ([`edges`]); a square picture without a clear outline is taken as a MatCap, whose
-/// disk is inscribed in it. Errors, one line each: the picture is all background, no round
-/// shape, two shapes.
-pub fn find_disk(p: &Painting, name: &str) -> Result<(Disk, Outline)> {
-    locate(p, name).map(|l| (l.disk, l.outline))
-}
-
-/// The circle the picture's edges support best, if it shows at least [`MIN_SEEN`] of its
-/// outline inside the frame. Error: two disjoint circles both that well supported.
-fn edge_circle(edges: &[edges::Edge], w: usize, h: usize, name: &str) -> Result<Option<edges::Support>> {
-    // A sphere is at least a tenth of the picture's shorter side (smaller ones are not
-    // exemplars), and may be cut by the frame: up to the longer side across.
-    let (r_min, r_max) = ((w.min(h) as f64 / 10.0).max(4.0), w.max(h) as f64 / 2.0);
-    let good: Vec<edges::Support> = edges::circles(edges, w, h, r_min, r_max)
-        .into_iter()
-        .filter(|s| s.seen_in_frame >= MIN_SEEN && edges::turning(edges, &s.disk) > STRAIGHT_TURNING)
-        .collect();
-    let Some(best) = good.first().copied() else { return Ok(None) };
-    let apart = |a: &Disk, b: &Disk| ((a.cx - b.cx).powi(2) + (a.cy - b.cy).powi(2)).sqrt() >= 0.95 * (a.r + b.r);
-    // A second sphere shows most of its own outline (not just a short arc inside the frame,
-    // as a circle through the horizon or the frame's corner can) and about as much of it.
-    let rival = |s: &edges::Support| apart(&s.disk, &best.disk) && s.seen >= MIN_SEEN && s.seen * s.disk.r >= 0.5 * best.seen * best.disk.r;
-    if let Some(other) = good.iter().skip(1).find(|s| rival(s)) {
-        return Err(Error::input(format!(
-            "{name}: two shapes (circles of radius {:.0} and {:.0} pixels): give a picture of one sphere",
-            best.disk.r, other.disk.r
-        )));
-    }
-    Ok(Some(best))
-}
-
-/// The picture's channels as square roots of linear values (roughly perceptual, as
-/// [`perceptual_distance`]).
-fn perceptual_channels(p: &Painting) -> Vec<Vec<f32>> {
-    (0..3).map(|c| p.pixels.iter().map(|x| x[c].max(0.0).sqrt()).collect()).collect()
-}
-
-/// The pixels of `mask` connected (4-neighbours) to the picture's border through `mask`.
-fn connected_to_border(mask: &[bool], w: usize, h: usize) -> Vec<bool> {
-    let mut seen = vec![false; w * h];
-    let mut stack: Vec<usize> = (0..w).flat_map(|i| [i, (h - 1) * w + i]).chain((0..h).flat_map(|j| [j * w, j * w + w - 1])).collect();
-    while let Some(k) = stack.pop() {
-        if seen[k] || !mask[k] {
-            continue;
-        }
-        seen[k] = true;
-        stack.extend(neighbours4(k, w, w * h));
-    }
-    seen
-}
-
-/// Where a mask's outline lies between its last inside pixel and the first outside one.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Boundary {
-    /// Alpha of half or more: a pixel is in when the shape covers its centre, so the outline
-    /// crosses the segment to the outside centre at a point uniform along it, on average
-    /// its midpoint.
-    Coverage,
-    /// A background colour key: its threshold sits anywhere in the antialiased ramp, and a
-    /// rim as dark as the background falls outside; the last inside centre is the outline.
-    Key,
-}
-
-/// The circle of the one large shape of `mask`.
-fn outline_circle(mask: &[bool], boundary: Boundary, w: usize, h: usize, name: &str) -> Result<Disk> {
-    let (labels, components) = components(mask, w, h);
-    let Some(&(largest, area)) = components.iter().max_by_key(|c| c.1) else {
-        return Err(Error::input(format!("{name} is all background: no sphere to find")));
-    };
-    if area < (w * h / 400).max(64) {
-        return Err(Error::input(format!("{name}: no disk found (the largest shape is {area} pixels)")));
-    }
-    if let Some(&(_, other)) = components.iter().filter(|c| c.0 != largest).max_by_key(|c| c.1) {
-        if other * 5 > area {
-            return Err(Error::input(format!(
-                "{name}: two shapes ({area} and {other} pixels): give a picture of one sphere"
-            )));
-        }
-    }
-    let inside = |i: isize, j: isize| i >= 0 && j >= 0 && (i as usize) < w && (j as usize) < h && labels[j as usize * w + i as usize] == largest;
-    let mut edge = Vec::new();
-    for j in 0..h as isize {
-        for i in 0..w as isize {
-            if !inside(i, j) {
-                continue;
-            }
-            let centre = glam::DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
-            for step in [glam::DVec2::NEG_X, glam::DVec2::X, glam::DVec2::NEG_Y, glam::DVec2::Y] {
-                if inside(i + step.x as isize, j + step.y as isize) {
-                    continue;
-                }
-                match boundary {
-                    Boundary::Coverage => edge.push(centre + 0.5 * step),
-                    Boundary::Key => {
-                        edge.push(centre);
-                        break;
-                    }
-                }
-            }
-        }
-    }
-    // The picture's edge is not the sphere's: a disk cropped by the frame keeps only its
-    // own boundary.
-    let own: Vec<_> = edge.iter().copied().filter(|e| e.x > 1.0 && e.y > 1.0 && e.x < w as f64 - 1.0 && e.y < h as f64 - 1.0).collect();
-    let disk = fit_envelope(if own.len() >= 8 { &own } else { &edge })
-        .ok_or_else(|| Error::input(format!("{name}: no disk found (the shape's outline is not a circle)")))?;
-    // Round: the shape fills its circle.
-    let circle_area = std::f64::consts::PI * disk.r * disk.r;
-    if !(0.8..=1.1).contains(&(area as f64 / circle_area)) || disk.r < 4.0 {
-        return Err(Error::input(format!(
-            "{name}: no disk found (the shape is not round: it fills {:.0}% of its circle)",
-            100.0 * area as f64 / circle_area
-        )));
-    }
-    Ok(disk)
-}
-
-/// The circle through the outer envelope of boundary points: an algebraic (Kåsa) fit,
-/// repeated without points well inside it, so a rim as dark as the background (which eats
-/// into the shape) does not shrink the circle.
-fn fit_envelope(points: &[glam::DVec2]) -> Option<Disk> {
-    let mut keep: Vec<glam::DVec2> = points.to_vec();
-    let mut disk = None;
-    for _ in 0..6 {
-        let d = kasa(&keep)?;
-        let tolerance = (0.01 * d.r).max(1.0);
-        let next: Vec<_> = points.iter().copied().filter(|p| (p.distance(glam::DVec2::new(d.cx, d.cy)) - d.r) > -tolerance).collect();
-        disk = Some(d);
-        if next.len() < 8 || next.len() == keep.len() {
-            break;
-        }
-        keep = next;
-    }
-    disk
-}
-
-/// Least-squares circle $x^2 + y^2 + Dx + Ey + F = 0$ through `points`.
-fn kasa(points: &[glam::DVec2]) -> Option<Disk> {
-    if points.len() < 3 {
-        return None;
-    }
-    let (mut m, mut rhs) = (DMat3::ZERO, DVec3::ZERO);
-    for p in points {
-        let row = DVec3::new(p.x, p.y, 1.0);
-        m += DMat3::from_cols(row * row.x, row * row.y, row * row.z);
-        rhs += row * -(p.x * p.x + p.y * p.y);
-    }
-    if m.determinant().abs() < 1e-9 {
-        return None;
-    }
-    let s = m.inverse() * rhs;
-    let (cx, cy) = (-s.x / 2.0, -s.y / 2.0);
-    let r2 = cx * cx + cy * cy - s.z;
-    (r2 > 0.0 && r2.is_finite()).then(|| Disk { cx, cy, r: r2.sqrt() })
 }
 
 /// The scene of a lit-sphere picture of `width` × `height`: the unit sphere seen from +Z by
@@ -510,27 +287,6 @@ impl Picture {
     pub fn scene(&self, light: DVec3) -> Scene {
         scene(&self.disk, self.painting.width, self.painting.height, light)
     }
-}
-
-/// The disk a user gave (`as_given`, in the file's pixels; `disk`, the same in the shrunk
-/// `painting`'s), checked: a circle of at least 4 pixels whose inside is mostly in the picture.
-fn given_disk(painting: &Painting, disk: Disk, as_given: Disk, name: &str) -> Result<Located> {
-    let Disk { cx, cy, r } = as_given;
-    let shown = format!("--disk {cx},{cy},{r}");
-    if !(cx.is_finite() && cy.is_finite() && r.is_finite()) || r <= 0.0 {
-        return Err(Error::input(format!("{shown}: the disk needs a centre X,Y and a radius above 0, in pixels")));
-    }
-    if disk.r < 4.0 {
-        return Err(Error::input(format!("{shown}: a radius of {:.1} pixels in the picture as fitted (shrunk to {} pixels a side) is too small for a sphere: it needs 4", disk.r, painting.width.max(painting.height))));
-    }
-    let (w, h) = (painting.width, painting.height);
-    let inside = (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).filter(|&(i, j)| disk.normal(i, j, 1.0).is_some()).count();
-    let area = std::f64::consts::PI * disk.r * disk.r;
-    if (inside as f64) < 0.5 * area {
-        return Err(Error::input(format!("{shown}: less than half of that disk lies on {name} ({}x{} pixels)", painting.width, painting.height)));
-    }
-    let seen = edges::support(&edges::points(&perceptual_channels(painting), w, h), &disk, w, h).seen;
-    Ok(Located { disk, outline: Outline::Given, seen })
 }
 
 /// `light` as a unit direction. Errors: zero or not finite (one line).
@@ -760,11 +516,5 @@ mod tests {
             }
         }
         assert!(find_disk(&square, "s.png").unwrap_err().to_string().contains("no disk"));
-    }
-
-    #[test]
-    fn kasa_recovers_a_circle_from_three_points() {
-        let d = kasa(&[glam::DVec2::new(1.0, 0.0), glam::DVec2::new(-1.0, 0.0), glam::DVec2::new(0.0, 1.0)]).unwrap();
-        assert!(d.cx.abs() < 1e-9 && d.cy.abs() < 1e-9 && (d.r - 1.0).abs() < 1e-9, "{d:?}");
     }
 }

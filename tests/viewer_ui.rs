@@ -403,7 +403,7 @@ fn a_dropped_matcap_is_a_lit_sphere_with_the_estimated_light_whose_sun_drags_the
 
 /// The disk a lit sphere was read with is drawn over it: dragging its outline inwards reads
 /// the picture again with the smaller disk (as `fit --disk` would), and dragging its centre
-/// cross moves it; the status gives the `--disk` that says the same.
+/// cross moves it; the status gives the disk in the file's pixels.
 #[test]
 fn the_disk_of_a_lit_sphere_drags_to_a_new_radius_and_centre() {
     use brdfpaint::litsphere::{Picture, MAX_SIDE};
@@ -426,7 +426,7 @@ fn the_disk_of_a_lit_sphere_drags_to_a_new_radius_and_centre() {
     let want = d.r - 30.0 / scale as f64;
     assert!((smaller.r - want).abs() < 1.5, "radius {} after the drag, {want} asked", smaller.r);
     assert!((smaller.cx - d.cx).abs() < 0.01 && (smaller.cy - d.cy).abs() < 0.01, "the centre stays: {smaller:?}");
-    assert!(h.studio.status().contains("as dragged (--disk"), "{}", h.studio.status());
+    assert!(h.studio.status().contains("disk at (") && h.studio.status().contains("as dragged"), "{}", h.studio.status());
     eprintln!("light {e}; disk {d:?} -> {smaller:?}");
     // The centre cross moves it (the sun is elsewhere unless the light is at the viewer).
     if e.truncate().length() * radius as f64 > 20.0 {

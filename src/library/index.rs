@@ -63,7 +63,7 @@ fn outline(o: Outline) -> &'static str {
         Outline::Background => "from its background",
         Outline::Inscribed => "a MatCap: the disk inscribed in the square",
         Outline::Edges => "from the arc its edges show",
-        Outline::Given => "given with --disk",
+        Outline::Given => "given by hand",
     }
 }
 

@@ -123,7 +123,7 @@ fn packed_files(json: &Value, bin: &[u8]) -> std::result::Result<Vec<File>, Stri
     let ext = json["materials"]
         .as_array()
         .and_then(|ms| ms.iter().find_map(|m| m["extensions"].get(EXTENSION)))
-        .ok_or_else(|| format!("no {EXTENSION} material: not written by `brdfpaint export --gltf`"))?;
+        .ok_or_else(|| format!("no {EXTENSION} material: not a glTF material brdfpaint exported"))?;
     let version = ext["version"].as_u64();
     if version != Some(EXTENSION_VERSION) {
         return Err(format!("{EXTENSION} version {version:?}; this brdfpaint reads version {EXTENSION_VERSION}"));

@@ -379,7 +379,7 @@ impl Studio {
             .and_then(|p| SphereSession::from_picture(p, None))
             .and_then(|session| self.start_lit_sphere(renderer, session));
         match opened {
-            Ok(()) => self.note(format!("{}: disk at ({:.1}, {:.1}), radius {:.1}, as dragged (--disk {:.1},{:.1},{:.1})", short(&name), given.cx, given.cy, given.r, given.cx, given.cy, given.r)),
+            Ok(()) => self.note(format!("{}: disk at ({:.1}, {:.1}), radius {:.1}, as dragged", short(&name), given.cx, given.cy, given.r)),
             Err(e) => self.status.fail(e.to_string()),
         }
     }
