@@ -27,55 +27,18 @@
 //! ([`Mapping::candidates_tinted`](super::Mapping::candidates_tinted)): where the chroma is
 //! the mean, $\prod - a$ and $a - \prod$ keep it.
 
-use std::fmt;
-use std::str::FromStr;
-
 use faer::Mat;
-use serde::{Deserialize, Serialize};
 
-use super::prepared::Prepared;
-use super::settings::{Input, Settings};
-use crate::error::{Error, Result};
+use super::settings::{Channels, Input, Settings};
+use super::system::Design;
 
-/// How the colour channels are fitted.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Channels {
-    /// Luminance with the settings as given, chroma one table at a time and drawn to the
-    /// painting's mean colour where no sample says otherwise (this module).
-    Coupled,
-    /// Each channel on its own, as in the thesis: the default, which a lit sphere leaves for
-    /// coupled channels when it takes colours the picture does not have
-    /// (`litsphere::colours`).
-    #[default]
-    Independent,
-}
-
-impl Channels {
-    /// The thesis's choice: what settings without a `channels` field were fitted with.
-    pub fn thesis() -> Channels {
-        Channels::Independent
-    }
-}
-
-impl fmt::Display for Channels {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Channels::Coupled => "coupled",
-            Channels::Independent => "independent",
-        })
-    }
-}
-
-impl FromStr for Channels {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        match s {
-            "coupled" => Ok(Channels::Coupled),
-            "independent" => Ok(Channels::Independent),
-            _ => Err(Error::input(format!("unknown channel fit '{s}': expected coupled or independent"))),
-        }
-    }
+/// A prepared least-squares system the chroma solves on: its settings and sample matrix,
+/// and its solve for a right-hand side (eq. 3.4's normal equations, factored once).
+pub(crate) trait Solve {
+    fn settings(&self) -> &Settings;
+    fn design(&self) -> &Design;
+    /// Log-space tables for the right-hand side `b` (n × 3).
+    fn solve_system(&self, b: &Mat<f64>) -> Mat<f64>;
 }
 
 /// Rec. 709 luminance weights of linear sRGB primaries (the colour space paintings decode to).
@@ -115,7 +78,7 @@ impl Settings {
 /// the right-hand side).
 struct Part {
     factor: usize,
-    system: Box<Prepared>,
+    system: Box<dyn Solve + Send + Sync>,
     ridge: f64,
 }
 
@@ -127,16 +90,15 @@ pub(crate) struct Coupled {
 }
 
 impl Coupled {
-    pub(crate) fn new(parts: Vec<Prepared>) -> Coupled {
+    pub(crate) fn new(parts: Vec<Box<dyn Solve + Send + Sync>>) -> Coupled {
         let parts = parts
             .into_iter()
             .enumerate()
             .map(|(factor, system)| {
-                let (settings, design, _) = system.parts();
-                let f = &settings.factors[0];
+                let f = &system.settings().factors[0];
                 let cell = (1.0 / (f.res - 1) as f64).powi(f.dim() as i32);
-                let ridge = f.ridge * design.rows() as f64 * cell;
-                Part { factor, system: Box::new(system), ridge }
+                let ridge = f.ridge * system.design().rows() as f64 * cell;
+                Part { factor, system, ridge }
             })
             .collect();
         Coupled { parts }
@@ -144,8 +106,8 @@ impl Coupled {
 
     /// Log-space tables for the right-hand side $\mathbf b = \mathbf A^\top\tilde{\mathbf f}$
     /// (plus any prior), `luminance` solving on the first system.
-    pub(crate) fn apply(&self, luminance: &Prepared, b: &Mat<f64>) -> Mat<f64> {
-        let (settings, design, _) = luminance.parts();
+    pub(crate) fn apply(&self, luminance: &dyn Solve, b: &Mat<f64>) -> Mat<f64> {
+        let (settings, design) = (luminance.settings(), luminance.design());
         let n = design.n;
         // Every sample's stencil in the first factor sums to 1, so that factor's rows of b
         // sum to the samples' log values (priors add rows that sum to zero).

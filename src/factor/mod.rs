@@ -35,6 +35,5 @@ pub use param::{Domain, Param};
 pub use pattern::{headlit, leaned_half, Grid, Pattern, Query, Sample, HEADLIT_DEG};
 pub use prepared::{errors, prepare, Errors, Fit, Prepared, Spectral, INVERTED_MARGIN};
 pub use bound::BOUND;
-pub use chroma::Channels;
 pub use robust::Robust;
-pub use settings::{defaults, difference_range, CustomInput, DifferenceChoice, DIFFERENCE_REACH_DEG, FactorSpec, Input, Method, Settings, LEAN_RANGE, MAX_RES_1D, MAX_RES_2D, MAX_UNKNOWNS, MAX_WARP};
+pub use settings::{defaults, Channels, difference_range, CustomInput, DifferenceChoice, DIFFERENCE_REACH_DEG, FactorSpec, Input, Method, Settings, LEAN_RANGE, MAX_RES_1D, MAX_RES_2D, MAX_UNKNOWNS, MAX_WARP};

@@ -17,10 +17,10 @@ use std::time::Instant;
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{Accum, Mat, Par, Side};
 
-use super::chroma::{self, Channels, Coupled};
+use super::chroma::{self, Coupled, Solve};
 use super::mapping::{LogMap, Mapping, IDENTITY_FLOOR};
 use super::pattern::{Pattern, Query};
-use super::settings::{Method, Settings};
+use super::settings::{Channels, Method, Settings};
 use super::sparse::SparseLlt;
 use super::system::{self, Design, SymCsc};
 use crate::error::{Error, Result};
@@ -522,7 +522,22 @@ impl Prepared {
     /// ([`Settings::luminance`], [`Settings::chroma`]), prepared on the same pattern.
     pub(crate) fn couple(settings: &Settings, luminance: Prepared, chroma: Vec<Prepared>) -> Prepared {
         let prepare_s = luminance.prepare_s + chroma.iter().map(|p| p.prepare_s).sum::<f64>();
-        Prepared { settings: settings.clone(), coupled: Some(Coupled::new(chroma)), prepare_s, ..luminance }
+        let parts = chroma.into_iter().map(|p| Box::new(p) as Box<dyn Solve + Send + Sync>).collect();
+        Prepared { settings: settings.clone(), coupled: Some(Coupled::new(parts)), prepare_s, ..luminance }
+    }
+}
+
+impl Solve for Prepared {
+    fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    fn design(&self) -> &Design {
+        &self.design
+    }
+
+    fn solve_system(&self, b: &Mat<f64>) -> Mat<f64> {
+        Prepared::solve_system(self, b)
     }
 }
 

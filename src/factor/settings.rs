@@ -2,11 +2,11 @@
 //! solve. Together with a [`Pattern`](super::Pattern) these fix the prepared system.
 
 use std::fmt;
+use std::str::FromStr;
 use std::sync::Arc;
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use super::chroma::Channels;
 use super::param::{Domain, Param};
 use super::pattern::Query;
 use crate::error::{Error, Result};
@@ -596,6 +596,47 @@ impl std::str::FromStr for DifferenceChoice {
             "on" => Ok(DifferenceChoice::On),
             "off" => Ok(DifferenceChoice::Off),
             _ => Err(Error::input(format!("unknown θ_d factor choice '{s}': expected auto, on or off"))),
+        }
+    }
+}
+
+/// How the colour channels are fitted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Channels {
+    /// Luminance with the settings as given, chroma one table at a time and drawn to the
+    /// painting's mean colour where no sample says otherwise ([`super::chroma`]).
+    Coupled,
+    /// Each channel on its own, as in the thesis: the default, which a lit sphere leaves for
+    /// coupled channels when it takes colours the picture does not have
+    /// (`litsphere::colours`).
+    #[default]
+    Independent,
+}
+
+impl Channels {
+    /// The thesis's choice: what settings without a `channels` field were fitted with.
+    pub fn thesis() -> Channels {
+        Channels::Independent
+    }
+}
+
+impl fmt::Display for Channels {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Channels::Coupled => "coupled",
+            Channels::Independent => "independent",
+        })
+    }
+}
+
+impl FromStr for Channels {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "coupled" => Ok(Channels::Coupled),
+            "independent" => Ok(Channels::Independent),
+            _ => Err(Error::input(format!("unknown channel fit '{s}': expected coupled or independent"))),
         }
     }
 }
