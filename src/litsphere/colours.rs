@@ -10,27 +10,27 @@
 //!
 //! Painted colour comes first, and a fit that keeps it is never touched: [`invented`]
 //! renders the material on a sphere under lights moved around it, and only a fit that
-//! invents colours ([`INVENTED`]) is fitted again with coupled channels under each mapping
-//! ([`TRIES`]). Of those that keep the picture's colours, the one that fits the picture best
-//! is kept, as `auto` chooses a mapping; if none keeps them, the one that invents least.
+//! invents colours ([`INVENTED`]) is fitted again, [`TRIES`] in turn, until one keeps the
+//! picture's colours (else the one that invents least is kept): each try gives up more of
+//! the picture's fidelity than the one before.
 
 use glam::DVec3;
 
 use crate::brdf::{Reflectance, SphereView};
 use crate::error::Result;
 use crate::factor::cache::Cache;
-use crate::factor::{Channels, Mapping, Settings, INVERTED_MARGIN};
+use crate::factor::{Channels, Mapping, Settings};
 use crate::images::palette::{Palette, FRAMES, INVENTED};
 use crate::material::Material;
 use crate::note::Note;
 use crate::pipeline::{self, Fitted, Options};
 use crate::sample::PaintedView;
 
-/// The fits tried when the thesis's invents colours: coupled channels under each mapping.
-pub const TRIES: [(Channels, Mapping); 3] =
-    [(Channels::Coupled, Mapping::Offset(None)), (Channels::Coupled, Mapping::Inverted(None)), (Channels::Coupled, Mapping::Identity)];
+/// The fits tried after the thesis's, in order: coupled channels, then coupled channels
+/// with the identity mapping.
+pub const TRIES: [(Channels, Mapping); 2] = [(Channels::Coupled, Mapping::Auto), (Channels::Coupled, Mapping::Identity)];
 
-/// [`pipeline::fit`] of one lit-sphere view, fitted again with each of [`TRIES`] when
+/// [`pipeline::fit`] of one lit-sphere view, fitted again with [`TRIES`] in turn while
 /// `opts.keep_colours` and the material invents colours ([`choose`]), with a note when a try
 /// is kept.
 pub fn fit(view: &PaintedView, opts: &Options, cache: Option<&Cache>) -> Result<Fitted> {
@@ -45,9 +45,9 @@ pub fn fit(view: &PaintedView, opts: &Options, cache: Option<&Cache>) -> Result<
     let chosen = choose(first, |channels, mapping| {
         let o = Options { settings: Settings { channels, ..opts.settings.clone() }, mapping, ..opts.clone() };
         let refit = pipeline::fit(views, &o, cache)?;
-        let judged = Judged { invented: invented(&refit.material, &palette), error: own_error(&refit) };
+        let after = invented(&refit.material, &palette);
         refits.push(refit);
-        Ok(judged)
+        Ok(after)
     })?;
     Ok(match chosen {
         Some(Chosen { index, after }) => {
@@ -66,51 +66,22 @@ pub struct Chosen {
     pub after: f64,
 }
 
-/// How a try fares: the share of lit pixels it invents ([`invented`]) and its relative RMS
-/// on the picture's own samples.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Judged {
-    pub invented: f64,
-    pub error: f64,
-}
-
 /// Which fit keeps the picture's colours, given the share the thesis's fit invents (`first`)
-/// and `judge`, which fits with a try's channels and mapping and judges that fit. `None`
-/// keeps the thesis's fit: it invents nothing, or no try invents less. Otherwise every try
-/// is judged, and of those that keep the colours the one of least error is chosen (an
-/// inverted mapping only by [`INVERTED_MARGIN`], as under `auto`: its hue is the least
-/// stable); if none keeps them, the one that invents least.
-pub fn choose(first: f64, mut judge: impl FnMut(Channels, Mapping) -> Result<Judged>) -> Result<Option<Chosen>> {
-    if first <= INVENTED {
-        return Ok(None);
-    }
-    let judged = TRIES.into_iter().map(|(channels, mapping)| judge(channels, mapping)).collect::<Result<Vec<_>>>()?;
-    let score = |i: usize| match TRIES[i].1 {
-        Mapping::Inverted(_) => judged[i].error / (1.0 - INVERTED_MARGIN),
-        _ => judged[i].error,
-    };
-    let keeping = (0..TRIES.len()).filter(|&i| judged[i].invented <= INVENTED).min_by(|&a, &b| score(a).total_cmp(&score(b)));
-    let least = (0..TRIES.len()).min_by(|&a, &b| judged[a].invented.total_cmp(&judged[b].invented));
-    let index = match keeping.or(least) {
-        Some(i) if judged[i].invented < first => i,
-        _ => return Ok(None),
-    };
-    Ok(Some(Chosen { index, after: judged[index].invented }))
-}
-
-/// The relative RMS of a fit's material on the samples it was fitted to: how well it
-/// re-renders the picture in its own scene.
-fn own_error(fitted: &Fitted) -> f64 {
-    let samples = &fitted.samples;
-    let (mut err, mut norm) = (0.0, 0.0);
-    for (q, v) in samples.pattern.queries.iter().zip(&samples.values) {
-        let got = fitted.material.shading(q);
-        for c in 0..3 {
-            err += (got[c] - v[c]).powi(2);
-            norm += v[c] * v[c];
+/// and `invented_with`, which fits with a try's channels and mapping and says the share that
+/// fit invents. The tries are made in turn while the best so far invents colours; the first
+/// that does not (else the one that invents least) is chosen, `None` for the thesis's own.
+pub fn choose(first: f64, mut invented_with: impl FnMut(Channels, Mapping) -> Result<f64>) -> Result<Option<Chosen>> {
+    let (mut least, mut chosen) = (first, None);
+    for (index, (channels, mapping)) in TRIES.into_iter().enumerate() {
+        if least <= INVENTED {
+            break;
+        }
+        let after = invented_with(channels, mapping)?;
+        if after < least {
+            (least, chosen) = (after, Some(Chosen { index, after }));
         }
     }
-    if norm > 0.0 { (err / norm).sqrt() } else { 0.0 }
+    Ok(chosen)
 }
 
 /// Normals across the sphere's diameter: 64 puts about 3200 samples on the disk, so one

@@ -268,9 +268,9 @@ impl SphereSession {
     }
 
     /// [`PaintSession::settle`] as `fit --lit-sphere` fits ([`litsphere::colours::fit`]): the
-    /// thesis's fit, and when it invents colours each of [`litsphere::colours::TRIES`], the
-    /// one [`litsphere::colours::choose`] takes left in place. A mapping the painter chose is
-    /// kept, as `fit --mapping` keeps it.
+    /// thesis's fit, and while the fit invents colours each of [`litsphere::colours::TRIES`]
+    /// in turn, the first that does not (else the one that invents least) left in place. A
+    /// mapping the painter chose is kept, as `fit --mapping` keeps it.
     fn settle_colours(&self, session: &mut PaintSession) -> Result<super::Refit> {
         let thesis = (Channels::Independent, Mapping::Auto);
         let current = (session.settings().channels, session.mapping());
@@ -292,8 +292,7 @@ impl SphereSession {
             set(session, (channels, mapping))?;
             refit = session.settle()?;
             tried = Some((channels, mapping));
-            let error = session.fit().map_or(f64::INFINITY, |f| f.errors.rms_relative);
-            Ok(litsphere::colours::Judged { invented: invented(session), error })
+            Ok(invented(session))
         })?;
         let keep = chosen.map_or(thesis, |c| litsphere::colours::TRIES[c.index]);
         if tried.is_none_or(|t| t == keep) {
