@@ -315,6 +315,11 @@ fn the_demo_is_whole_across_kills() {
         let now = snapshot(&out);
         if now == before {
             old += 1;
+            // Killed about the end before its commit: runs are slower now than `full` (the
+            // machine's load rose after it was timed), and only finished runs would say so.
+            if k % 2 == 1 {
+                full = full.mul_f64(1.2);
+            }
         } else {
             demo_is_whole(&out, &names).unwrap_or_else(|e| panic!("kill {k} after {after:?} left a partial demo: {e}"));
             let kept: Vec<&PathBuf> = now.keys().filter(|n| now[*n].0 == before[*n].0).collect();
