@@ -5,8 +5,8 @@ same command without `--faults` (same size, same seed) writes NAME, the truth's 
 photographs under the lights as written. This script judges NAME's photographs, as a
 prediction, against NAME-faults' on the lights `brdfpaint::study::photos` holds out, over
 the pixels that study reads (on the mask eroded by one pixel, lit by the light as written
-through the normal map, no channel clipped in either, largest channel above 0.2% of the
-photograph's largest value): the error a fit would score if it found the material exactly
+through the normal map, no channel clipped in either, largest channel above 0.2% of
+white): the error a fit would score if it found the material exactly
 and the normal map were right. The calibration errors of the held-out lights themselves
 (each 1 degree and 2% per channel off, the glare) are in it: no fit of the other lights can
 remove them.
@@ -23,7 +23,7 @@ from scipy.ndimage import binary_erosion
 
 # brdfpaint::study::photos::FIT_LIGHTS: fitted on these, judged on the other nine.
 FIT_LIGHTS = (0, 4, 8)
-# brdfpaint::sample::photo::NEAR_BLACK, of the photograph's largest value.
+# brdfpaint::sample::photo::NEAR_BLACK, of a PNG's white (its largest code).
 NEAR_BLACK = 0.002
 WHITE = 65535
 
@@ -50,9 +50,10 @@ def floor(clean, faulted):
             continue
         truth = read(f"{faulted}/{name}")
         predicted = read(f"{clean}/{name}")
-        # A pixel clipped in the clean photograph predicts nothing: left out too.
         lit = normals @ lights[k] > 0.0
-        usable = mask & lit & (np.maximum(truth, predicted).max(-1) < WHITE) & (truth.max(-1) > NEAR_BLACK * truth.max())
+        # A pixel clipped in the clean photograph predicts nothing: left out too.
+        unclipped = np.maximum(truth, predicted).max(-1) < WHITE
+        usable = mask & lit & unclipped & (truth.max(-1) > NEAR_BLACK * WHITE)
         predicted = predicted[usable] / i_clean[k]
         truth = truth[usable] / i_faulted[k]
         errors.append(np.sqrt(((predicted - truth) ** 2).sum() / (truth**2).sum()))
