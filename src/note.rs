@@ -44,8 +44,8 @@ pub enum Note {
     /// Paintings lit from the eye: the shading's falloff given to the light.
     Headlit,
     /// A lobe whose Fresnel the paintings cannot show (light and half vector at most
-    /// `reach_deg` apart).
-    FresnelUnseen { reach_deg: f64, lobe: &'static str },
+    /// `reach_deg` apart): given a dielectric's (`dielectric`) or none.
+    FresnelUnseen { reach_deg: f64, lobe: &'static str, dielectric: bool },
     /// A factor of θ_d added for paintings under side or back light.
     DifferenceFactor { lo_deg: f64, hi_deg: f64 },
     /// The error of a uniform fit organized by region: not one material.
@@ -177,7 +177,11 @@ impl fmt::Display for Note {
             Note::Headlit => f.write_str(
                 "the paintings are lit from the eye: they show each point under one angle between light, view and normal, so the shading's falloff was given to the light (as cos θ_l) where they leave it open; a second view painted under a side light shows how the material answers a moving light",
             ),
-            Note::FresnelUnseen { reach_deg, lobe } => write!(
+            Note::FresnelUnseen { reach_deg, lobe, dielectric: true } => write!(
+                f,
+                "the paintings show light and half vector at most {reach_deg:.0}° apart, too close to see Fresnel: the {lobe} highlight, colourless over a diffuse body, was given a dielectric's (F0 0.04, as plastic, paint and glaze), so under light from the side or behind it grows brighter; a view painted under side or back light shows by how much"
+            ),
+            Note::FresnelUnseen { reach_deg, lobe, dielectric: false } => write!(
                 f,
                 "the paintings show light and half vector at most {reach_deg:.0}° apart, too close to see Fresnel: the {lobe} highlight was given none, so under light from the side or behind it stays as bright as head-on where a real glossy material grows brighter; a view painted under side or back light shows by how much"
             ),
@@ -271,7 +275,8 @@ mod tests {
             Note::Strays { painting: "p.png".into(), pixels: 40, left_out: true },
             Note::TonesLobe { painting: "p.png".into(), lobe: "ggx", width: "alpha 0.04".into() },
             Note::Headlit,
-            Note::FresnelUnseen { reach_deg: 30.0, lobe: "ggx" },
+            Note::FresnelUnseen { reach_deg: 30.0, lobe: "ggx", dielectric: false },
+            Note::FresnelUnseen { reach_deg: 30.0, lobe: "ggx", dielectric: true },
             Note::DifferenceFactor { lo_deg: 5.0, hi_deg: 70.0 },
             Note::Regional { percent: 60.0, rms: 0.2 },
             Note::FirstOfMany { scene: "s.gltf".into(), what: "cameras", count: 2, used: "front\nback".into() },

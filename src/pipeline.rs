@@ -365,14 +365,19 @@ pub fn fit(views: &[PaintedView], opts: &Options, cache: Option<&Cache>) -> Resu
 /// A note when the material's highlight is a lobe whose Fresnel the paintings cannot show:
 /// Schlick's $(1 - \cos\theta_d)^5$ is 4e-5 at 30° and 0.002 at 45°
 /// ([`DIFFERENCE_REACH_DEG`]), so paintings lit near the camera leave $k_f$ at 0 and the
-/// highlight under rim light too dim. Measured on a GGX $\alpha = 0.05$ sphere (BENCHMARKS.md,
-/// "The sharp highlight's rim"): the rim view's peak 0.769 of the truth from the three
-/// standard paintings, 0.998 from three that include side and back light.
+/// highlight under rim light too dim, or at a dielectric's where the lobe reads as one
+/// ([`crate::brdf::lobe_fit`]). Measured on a GGX $\alpha = 0.05$ sphere with a coloured
+/// $F_0$ (docs/notes/history.md, "The sharp highlight's rim"): the rim view's peak 0.769 of
+/// the truth from the three standard paintings, 0.998 from three that include side and back
+/// light.
 fn fresnel_unseen(fitted: &Fitted) -> Option<Note> {
     let base = fitted.material.terms.first().and_then(|t| t.base)?;
     let [_, reach] = difference_range(&fitted.samples.pattern);
     let lobe = base.specular.iter().sum::<f64>() > 0.0 && base.lobe.fresnel_from_data();
-    (lobe && reach < DIFFERENCE_REACH_DEG).then(|| Note::FresnelUnseen { reach_deg: reach, lobe: base.lobe.name() })
+    // The lobe fit gave a dielectric's rise, k_f = 24 k_s; a conductor's k_f/k_s = (1 − F_0)/F_0
+    // is at most 1 (F_0 ≥ 0.5).
+    let dielectric = (0..3).all(|c| base.fresnel[c] > base.specular[c]);
+    (lobe && reach < DIFFERENCE_REACH_DEG).then(|| Note::FresnelUnseen { reach_deg: reach, lobe: base.lobe.name(), dielectric })
 }
 
 /// What a user can act on, one line each (they go into the material's provenance): per

@@ -143,7 +143,7 @@ fn held_out(name: &str) -> f64 {
 
 /// The held-out column of README's demo table, uniform materials with a known truth.
 const README_HELD_OUT: [(&str, f64); 5] =
-    [("plastic", 0.0094), ("gooch", 0.0107), ("gold-paint", 0.0216), ("gold-paint-2-views", 0.0111), ("purple-paint", 0.0135)];
+    [("plastic", 0.0094), ("gooch", 0.0107), ("gold-paint", 0.0216), ("gold-paint-2-views", 0.0111), ("purple-paint", 0.0131)];
 
 /// Every held-out figure README's demo table prints, recomputed here and held at its
 /// value: within 0.00005 plus 1%, the table's last printed digit and the drift of a

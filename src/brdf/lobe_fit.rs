@@ -1,10 +1,12 @@
 //! Fitting a lobe of the analytic base ([`super::lobe`]) to samples: the width $\alpha$
 //! (shared by the channels) by a one-dimensional search, $a$, $k_d$, $k_s$, $k_f \ge 0$ per
 //! channel by weighted non-negative linear least squares, relative weights (dark and bright
-//! samples count alike, as in log space). $k_f$ is ridged toward zero ([`FRESNEL_RIDGE`];
-//! Ashikhmin-Shirley's toward its model's own Fresnel): paintings under a light near the
-//! camera show $\theta_d$ below 30°, where $(1 - \cos\theta_d)^5 < 10^{-4}$, and must not
-//! invent a Fresnel rise they cannot see.
+//! samples count alike, as in log space). $k_f$ is ridged ([`FRESNEL_RIDGE`]): paintings
+//! under a light near the camera show $\theta_d$ below 30°, where $(1 - \cos\theta_d)^5 <
+//! 10^{-4}$, and cannot show a Fresnel rise, so there the ridge says what it is: a
+//! dielectric's (plastic, paint: a neutral highlight over a body colour, [`dielectric`])
+//! for $F_0 = 0.04$, a conductor's none (its $F_0$ is high, its rise small),
+//! Ashikhmin-Shirley's its model's own.
 
 use std::f64::consts::PI;
 
@@ -24,11 +26,29 @@ const REFINE_STEPS: usize = 12;
 /// The ridge on the Fresnel coefficient $k_f$, relative to the weighted energy of the
 /// specular column: $k_f$ costs $\lambda \sum w\, s^2 k_f^2$ (with $s$ the lobe without
 /// Fresnel). The Fresnel column is the specular one times $(1 - \cos\theta_d)^5$, below 2e-5
-/// on front-lit paintings, so its energy there is far below the ridge and $k_f$ stays 0
-/// (measured on the suite's standard paintings); under side and back light (the wide
-/// paintings, θ_d to 77°) the data decide, and GGX's $1 - F_0$ comes back within 4%.
-/// Ashikhmin-Shirley's ridge pulls toward its own coupled Fresnel instead ([`linear_fit`]).
+/// on front-lit paintings, so its energy there is far below the ridge and $k_f$ stays at
+/// the ridge's target (0, or a dielectric's: [`DIELECTRIC_FRESNEL`]); under side and back
+/// light (the wide paintings, θ_d to 77°) the data decide, and GGX's $1 - F_0$ comes back
+/// within 4%. Ashikhmin-Shirley's ridge pulls toward its own coupled Fresnel instead
+/// ([`linear_fit`]).
 const FRESNEL_RIDGE: f64 = 1e-4;
+
+/// Schlick's $(1 - F_0)/F_0$ of a dielectric of index 1.5 ($F_0 = 0.04$; plastics, paint
+/// binders, varnish and glass lie at 1.46–1.6): where a painting shows no grazing
+/// $\theta_d$, a dielectric's $k_f$ is ridged toward this times its grey $k_s$ (its Fresnel
+/// rise is the light's colour), not toward 0.
+const DIELECTRIC_FRESNEL: f64 = (1.0 - 0.04) / 0.04;
+
+/// A dielectric's $F_0$ changes by under 5% across the visible (dispersion), and a light's
+/// colour calibration adds a few percent per channel: a specular colour farther than this
+/// from grey (once the part that follows the body colour is taken out) is a conductor's.
+const NEUTRAL_SPECULAR: f64 = 0.1;
+
+/// A conductor has no body (diffuse) reflection; most dielectrics' body albedo is several
+/// times their $F_0$ of 0.04. Where the body is darker than $F_0$ (black plastic: 0.02) the
+/// lobe could as well be a metal's with a tail the diffuse took, and a rise invented for a
+/// metal (×24) costs more than one missed on black plastic, so those keep none.
+const BODY_OVER_F0: f64 = 1.0;
 
 /// The relative weight's softening: samples are weighted by $1/(S + \delta)^2$ with
 /// $\delta$ this fraction of the channel's largest value, so the fit is relative (dark and
@@ -115,7 +135,13 @@ impl Base {
     fn fit_at(pattern: &Pattern, values: &[[f64; 3]], delta: [f64; 3], lobe: Lobe, alpha: f64, ambient: bool) -> (Base, f64) {
         // The colours from every sample up to [`FIT_SAMPLES`] (every k-th beyond).
         let fitted = fitted_samples(pattern.len());
-        let (res, k, penalty) = linear_fit(pattern, values, &fitted, delta, lobe, alpha, ambient);
+        let mut fit = linear_fit(pattern, values, &fitted, delta, lobe, alpha, ambient, None);
+        // A dielectric's Fresnel where the samples cannot show it ([`DIELECTRIC_FRESNEL`]).
+        let grey = if lobe.fresnel_from_data() { dielectric(lobe, alpha, &fit.1) } else { None };
+        if let Some(grey) = grey {
+            fit = linear_fit(pattern, values, &fitted, delta, lobe, alpha, ambient, Some(DIELECTRIC_FRESNEL * grey));
+        }
+        let (res, k, penalty) = fit;
         let res = (res - penalty).max(0.0);
         // The misfit relative to the weighted values: $\sqrt{\sum w (B - S)^2 / \sum w S^2}$
         // (the data's part of the objective; the ridge's penalty is no misfit).
@@ -132,7 +158,7 @@ impl Base {
         let mut best: Option<(f64, f64)> = None; // (residual, alpha)
         for i in 0..ALPHAS {
             let alpha = ALPHA_MIN * (ALPHA_MAX / ALPHA_MIN).powf(i as f64 / (ALPHAS - 1) as f64);
-            let (res, ..) = linear_fit(pattern, values, &search, delta, lobe, alpha, ambient);
+            let (res, ..) = linear_fit(pattern, values, &search, delta, lobe, alpha, ambient, None);
             if best.is_none_or(|b| res < b.0) {
                 best = Some((res, alpha));
             }
@@ -142,7 +168,7 @@ impl Base {
         // $\log\alpha$: the grid's step (about 19%) alone leaves a GGX truth a misfit of a few
         // percent, which would hide it among the models of other families.
         let step = (ALPHA_MAX / ALPHA_MIN).ln() / (ALPHAS - 1) as f64;
-        let at = |x: f64| linear_fit(pattern, values, &search, delta, lobe, x.exp(), ambient).0;
+        let at = |x: f64| linear_fit(pattern, values, &search, delta, lobe, x.exp(), ambient, None).0;
         let (mut lo, mut hi) = ((alpha.ln() - step).max(ALPHA_MIN.ln()), (alpha.ln() + step).min(ALPHA_MAX.ln()));
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
@@ -162,6 +188,44 @@ impl Base {
         }
         Some(if at(alpha.ln()) <= f1.min(f2) { alpha } else if f1 < f2 { x1.exp() } else { x2.exp() })
     }
+}
+
+/// The grey part $n$ of the specular colour when a fitted lobe reads as a dielectric
+/// (plastic, paint, glaze): $k_s \approx n + m\,k_d$ (a fit lends the lobe some of the
+/// body's colour, $m \ge 0$) with what is left within [`NEUTRAL_SPECULAR`] of $n$, and a
+/// body at least [`BODY_OVER_F0`] times the lobe's $F_0$. `None` for a conductor, whose
+/// Fresnel is left to the data: its $F_0$ is 0.5–0.95, so its rise is small.
+fn dielectric(lobe: Lobe, alpha: f64, k: &[[f64; 4]; 3]) -> Option<f64> {
+    let (ks, kd) = (k.map(|x| x[2]), k.map(|x| x[1]));
+    let mean = |x: [f64; 3]| x.iter().sum::<f64>() / 3.0;
+    let (ms, md) = (mean(ks), mean(kd));
+    // Least squares of k_s = n + m k_d over the channels.
+    let var: f64 = kd.iter().map(|d| (d - md).powi(2)).sum();
+    let cov: f64 = kd.iter().zip(&ks).map(|(d, s)| (d - md) * (s - ms)).sum();
+    let m = if var > 0.0 { (cov / var).max(0.0) } else { 0.0 };
+    let n = ms - m * md;
+    let grey = n > 0.0 && (0..3).all(|c| (ks[c] - n - m * kd[c]).abs() <= NEUTRAL_SPECULAR * n);
+    // F_0 as the lobe's reflectance at normal view: k_s times its specular albedo there.
+    let f0 = ms * specular_albedo(lobe, alpha);
+    (grey && PI * md >= BODY_OVER_F0 * f0).then_some(n)
+}
+
+/// The lobe's specular shading at unit $k_s$ integrated over the light's hemisphere, seen
+/// along the normal: $2\pi \int s(\theta_l) \sin\theta_l\, d\theta_l$ (every family
+/// that has a Fresnel is isotropic about the normal there). Nodes at $\theta = \frac\pi2
+/// t^2$ crowd near the normal, where a sharp lobe lies.
+fn specular_albedo(lobe: Lobe, alpha: f64) -> f64 {
+    const NODES: usize = 1024;
+    let v = glam::DVec3::Z;
+    (0..NODES)
+        .map(|i| {
+            let t = (i as f64 + 0.5) / NODES as f64;
+            let theta = 0.5 * PI * t * t;
+            let l = glam::DVec3::new(theta.sin(), 0.0, theta.cos());
+            // dθ = π t dt.
+            2.0 * PI * lobe.shape(l, v, alpha).1 * theta.sin() * PI * t / NODES as f64
+        })
+        .sum()
 }
 
 /// Each channel's largest value and the relative weight's softening $\delta$
@@ -201,11 +265,12 @@ pub fn misfit(values: &[[f64; 3]], predicted: &[[f64; 3]]) -> f64 {
 }
 
 /// Weighted non-negative least squares of $(a, k_d, k_s, k_f)$ per channel for a fixed
-/// $\alpha$ over the samples `idx` ($k_f$ ridged, [`FRESNEL_RIDGE`]; $a = 0$ unless
-/// `ambient`): the summed weighted
+/// $\alpha$ over the samples `idx` ($k_f$ ridged, [`FRESNEL_RIDGE`], toward 0 or toward
+/// `rise` in every channel; $a = 0$ unless `ambient`): the summed weighted
 /// residual with the ridge's penalty (what the fit minimizes), the coefficients, and the
 /// penalty alone (so a misfit can leave it out).
-fn linear_fit(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64; 3], lobe: Lobe, alpha: f64, ambient: bool) -> (f64, [[f64; 4]; 3], f64) {
+#[allow(clippy::too_many_arguments)]
+fn linear_fit(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64; 3], lobe: Lobe, alpha: f64, ambient: bool, rise: Option<f64>) -> (f64, [[f64; 4]; 3], f64) {
     // Normal equations per channel: G = Σ w x xᵀ, b = Σ w x s, c = Σ w s².
     let mut g = [[[0.0f64; N]; N]; 3];
     let mut b = [[0.0f64; N]; 3];
@@ -250,10 +315,18 @@ fn linear_fit(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64
             b[c][2] += ridge * target;
             b[c][3] += ridge * target;
             ss[c] += ridge * target * target;
+        } else if let Some(t) = rise {
+            // λ (k_f − t)²: the k_f² part is above.
+            b[c][3] += ridge * t;
+            ss[c] += ridge * t * t;
         }
         let (res, k) = nnls(&g[c], &b[c], ss[c]);
         total += res;
-        penalty += if coupled { ridge * (k[2] + k[3] - target).powi(2) } else { ridge * k[3] * k[3] };
+        penalty += match (coupled, rise) {
+            (true, _) => ridge * (k[2] + k[3] - target).powi(2),
+            (false, Some(t)) => ridge * (k[3] - t).powi(2),
+            (false, None) => ridge * k[3] * k[3],
+        };
         coef[c] = k;
     }
     (total, coef, penalty)
@@ -396,6 +469,23 @@ mod tests {
                     assert!((base.fresnel[c] / (norm * (1.0 - rs)) - 1.0).abs() < 0.02, "{base:?}");
                 }
             }
+        }
+    }
+
+    /// Front-lit paintings (θ_d ≤ 30°, where Schlick's rise is under 2e-4) cannot show a
+    /// Fresnel rise; the fit gives a plastic's (a grey $F_0 = 0.04$ over a red body) the
+    /// dielectric's $k_f = 1 - F_0 = 0.96$ of its truth, and a conductor (gold's $F_0$, no
+    /// body) or a coloured highlight over a body (the suite's GGX, $F_0$ 0.5–0.35) none.
+    #[test]
+    fn a_dielectrics_fresnel_is_given_where_paintings_cannot_show_it() {
+        let views: Vec<_> = [DVec3::new(0.3, 0.4, 1.0), DVec3::new(-0.6, 0.2, 0.8)].iter().map(|&l| SphereView::new(l, 64)).collect();
+        let pattern = Pattern::concat(&views.iter().map(SphereView::pattern).collect::<Vec<_>>());
+        let fit = |truth: &Analytic| Base::fit(&pattern, &pattern.shade(|q| truth.shading(q))).expect("a fit").0;
+        let plastic = fit(&Analytic::ggx_alpha([0.6, 0.08, 0.05], [0.04; 3], 0.1));
+        assert!(plastic.fresnel.iter().all(|&f| (f / 0.96 - 1.0).abs() < 0.1), "{plastic:?}");
+        for truth in [Analytic::ggx_alpha([0.0; 3], [1.0, 0.78, 0.34], 0.2), Analytic::ggx_alpha([0.40, 0.25, 0.12], [0.50, 0.42, 0.35], 0.2)] {
+            let base = fit(&truth);
+            assert!((0..3).all(|c| base.fresnel[c] < 0.01 * base.specular[c]), "{}: {base:?}", truth.name());
         }
     }
 
