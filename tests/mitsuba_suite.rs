@@ -37,8 +37,9 @@ fn lambert_rendered_by_mitsuba_is_brdfpaints_lambert() {
 /// material's median over the seven held-out views), the same medians over the three views
 /// lit from the front half and over the four side, rim and grazing ones, and its worst view
 /// may grow by at most 10% of what was measured (the twelve materials and seven views, on
-/// main's fit with a dielectric's Fresnel given where paintings cannot show it). Lower is better: when a change improves them, lower the bounds
-/// with it (BENCHMARKS.md keeps the table).
+/// main's fit with a dielectric's Fresnel given where paintings cannot show it). Lower is
+/// better: when a change improves them, lower the bounds with it (BENCHMARKS.md keeps the
+/// table).
 #[test]
 fn fits_of_mitsuba_materials_hold_todays_held_out_errors() {
     let suite = suite();
@@ -63,8 +64,8 @@ fn fits_of_mitsuba_materials_hold_todays_held_out_errors() {
         }
         if (painted, base) == (1, BaseChoice::Auto) {
             // Plastics painted from the front: a colourless highlight over a coloured or grey
-            // body reads as a dielectric, whose Fresnel brightens side and back light (the
-            // side..grazing medians were 0.68 and 0.69 without it, the fit far too dark there).
+            // body reads as a dielectric, whose Fresnel brightens side and back light (without
+            // it the fit is far too dark there: BENCHMARKS.md, "Another renderer's materials").
             for name in ["plastic-red-ggx-0.1", "plastic-grey-ggx-0.05"] {
                 let r = rows.iter().find(|r| r.material == name).unwrap();
                 assert!(r.rim() < 0.15, "{name}: side..grazing {}\n{t}", r.rim());

@@ -30,7 +30,7 @@ const REFINE_STEPS: usize = 12;
 /// the ridge's target (0, or a dielectric's: [`DIELECTRIC_FRESNEL`]); under side and back
 /// light (the wide paintings, θ_d to 77°) the data decide, and GGX's $1 - F_0$ comes back
 /// within 4%. Ashikhmin-Shirley's ridge pulls toward its own coupled Fresnel instead
-/// ([`linear_fit`]).
+/// ([`solve_ridged`]).
 const FRESNEL_RIDGE: f64 = 1e-4;
 
 /// Schlick's $(1 - F_0)/F_0$ of a dielectric of index 1.5 ($F_0 = 0.04$; plastics, paint
@@ -135,11 +135,13 @@ impl Base {
     fn fit_at(pattern: &Pattern, values: &[[f64; 3]], delta: [f64; 3], lobe: Lobe, alpha: f64, ambient: bool) -> (Base, f64) {
         // The colours from every sample up to [`FIT_SAMPLES`] (every k-th beyond).
         let fitted = fitted_samples(pattern.len());
-        let mut fit = linear_fit(pattern, values, &fitted, delta, lobe, alpha, ambient, None);
-        // A dielectric's Fresnel where the samples cannot show it ([`DIELECTRIC_FRESNEL`]).
+        let eq = normal_equations(pattern, values, &fitted, delta, lobe, alpha, ambient);
+        let mut fit = solve_ridged(eq, lobe, alpha, None);
+        // A dielectric's Fresnel where the samples cannot show it ([`DIELECTRIC_FRESNEL`]):
+        // the same equations, the ridge's target moved.
         let grey = if lobe.fresnel_from_data() { dielectric(lobe, alpha, &fit.1) } else { None };
         if let Some(grey) = grey {
-            fit = linear_fit(pattern, values, &fitted, delta, lobe, alpha, ambient, Some(DIELECTRIC_FRESNEL * grey));
+            fit = solve_ridged(eq, lobe, alpha, Some(DIELECTRIC_FRESNEL * grey));
         }
         let (res, k, penalty) = fit;
         let res = (res - penalty).max(0.0);
@@ -158,7 +160,7 @@ impl Base {
         let mut best: Option<(f64, f64)> = None; // (residual, alpha)
         for i in 0..ALPHAS {
             let alpha = ALPHA_MIN * (ALPHA_MAX / ALPHA_MIN).powf(i as f64 / (ALPHAS - 1) as f64);
-            let (res, ..) = linear_fit(pattern, values, &search, delta, lobe, alpha, ambient, None);
+            let (res, ..) = linear_fit(pattern, values, &search, delta, lobe, alpha, ambient);
             if best.is_none_or(|b| res < b.0) {
                 best = Some((res, alpha));
             }
@@ -168,7 +170,7 @@ impl Base {
         // $\log\alpha$: the grid's step (about 19%) alone leaves a GGX truth a misfit of a few
         // percent, which would hide it among the models of other families.
         let step = (ALPHA_MAX / ALPHA_MIN).ln() / (ALPHAS - 1) as f64;
-        let at = |x: f64| linear_fit(pattern, values, &search, delta, lobe, x.exp(), ambient, None).0;
+        let at = |x: f64| linear_fit(pattern, values, &search, delta, lobe, x.exp(), ambient).0;
         let (mut lo, mut hi) = ((alpha.ln() - step).max(ALPHA_MIN.ln()), (alpha.ln() + step).min(ALPHA_MAX.ln()));
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
@@ -204,10 +206,12 @@ fn dielectric(lobe: Lobe, alpha: f64, k: &[[f64; 4]; 3]) -> Option<f64> {
     let cov: f64 = kd.iter().zip(&ks).map(|(d, s)| (d - md) * (s - ms)).sum();
     let m = if var > 0.0 { (cov / var).max(0.0) } else { 0.0 };
     let n = ms - m * md;
-    let grey = n > 0.0 && (0..3).all(|c| (ks[c] - n - m * kd[c]).abs() <= NEUTRAL_SPECULAR * n);
+    if n <= 0.0 || (0..3).any(|c| (ks[c] - n - m * kd[c]).abs() > NEUTRAL_SPECULAR * n) {
+        return None;
+    }
     // F_0 as the lobe's reflectance at normal view: k_s times its specular albedo there.
     let f0 = ms * specular_albedo(lobe, alpha);
-    (grey && PI * md >= BODY_OVER_F0 * f0).then_some(n)
+    (PI * md >= BODY_OVER_F0 * f0).then_some(n)
 }
 
 /// The lobe's specular shading at unit $k_s$ integrated over the light's hemisphere, seen
@@ -265,16 +269,25 @@ pub fn misfit(values: &[[f64; 3]], predicted: &[[f64; 3]]) -> f64 {
 }
 
 /// Weighted non-negative least squares of $(a, k_d, k_s, k_f)$ per channel for a fixed
-/// $\alpha$ over the samples `idx` ($k_f$ ridged, [`FRESNEL_RIDGE`], toward 0 or toward
-/// `rise` in every channel; $a = 0$ unless `ambient`): the summed weighted
-/// residual with the ridge's penalty (what the fit minimizes), the coefficients, and the
-/// penalty alone (so a misfit can leave it out).
-#[allow(clippy::too_many_arguments)]
-fn linear_fit(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64; 3], lobe: Lobe, alpha: f64, ambient: bool, rise: Option<f64>) -> (f64, [[f64; 4]; 3], f64) {
-    // Normal equations per channel: G = Σ w x xᵀ, b = Σ w x s, c = Σ w s².
-    let mut g = [[[0.0f64; N]; N]; 3];
-    let mut b = [[0.0f64; N]; 3];
-    let mut ss = [0.0f64; 3];
+/// $\alpha$ over the samples `idx` ($k_f$ ridged toward 0, [`FRESNEL_RIDGE`]; $a = 0$ unless
+/// `ambient`): [`solve_ridged`] of [`normal_equations`].
+fn linear_fit(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64; 3], lobe: Lobe, alpha: f64, ambient: bool) -> (f64, [[f64; 4]; 3], f64) {
+    solve_ridged(normal_equations(pattern, values, idx, delta, lobe, alpha, ambient), lobe, alpha, None)
+}
+
+/// The weighted linear fit's normal equations per channel: $G = \sum w x x^\top$,
+/// $b = \sum w x s$, $c = \sum w s^2$ (what [`solve_ridged`] solves, under any ridge).
+#[derive(Clone, Copy)]
+struct NormalEquations {
+    g: [[[f64; N]; N]; 3],
+    b: [[f64; N]; 3],
+    ss: [f64; 3],
+}
+
+/// [`NormalEquations`] of $(a, k_d, k_s, k_f)$ for a fixed $\alpha$ over the samples `idx`
+/// (weights $1/(S + \delta)^2$; $a = 0$ unless `ambient`).
+fn normal_equations(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64; 3], lobe: Lobe, alpha: f64, ambient: bool) -> NormalEquations {
+    let mut eq = NormalEquations { g: [[[0.0f64; N]; N]; 3], b: [[0.0f64; N]; 3], ss: [0.0f64; 3] };
     for &i in idx {
         let q = &pattern.queries[i];
         let (diffuse, spec, x5) = lobe.shape(q.l, q.v, alpha);
@@ -284,13 +297,22 @@ fn linear_fit(pattern: &Pattern, values: &[[f64; 3]], idx: &[usize], delta: [f64
             let w = 1.0 / (s + delta[c]).powi(2);
             for r in 0..N {
                 for k in 0..N {
-                    g[c][r][k] += w * x[r] * x[k];
+                    eq.g[c][r][k] += w * x[r] * x[k];
                 }
-                b[c][r] += w * x[r] * s;
+                eq.b[c][r] += w * x[r] * s;
             }
-            ss[c] += w * s * s;
+            eq.ss[c] += w * s * s;
         }
     }
+    eq
+}
+
+/// The non-negative solution of `eq` with $k_f$ ridged ([`FRESNEL_RIDGE`]) toward 0, or
+/// toward `rise` in every channel: the summed weighted residual with the ridge's penalty
+/// (what the fit minimizes), the coefficients, and the penalty alone (so a misfit can leave
+/// it out).
+fn solve_ridged(eq: NormalEquations, lobe: Lobe, alpha: f64, rise: Option<f64>) -> (f64, [[f64; 4]; 3], f64) {
+    let NormalEquations { mut g, mut b, mut ss } = eq;
     let (mut total, mut penalty) = (0.0, 0.0);
     let mut coef = [[0.0; N]; 3];
     // Ashikhmin-Shirley's Fresnel is part of its model: Schlick's with F_0 = R_s under its
