@@ -20,6 +20,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::factor::Query;
 
+/// Schlick's $F_0$ of a dielectric of index of refraction 1.5, $((1.5 - 1)/(1.5 + 1))^2$:
+/// plastics, paint binders, varnish and glass (1.46–1.6), and glTF's dielectric.
+pub const DIELECTRIC_F0: f64 = 0.04;
+
 /// An analytic lobe under the factors. See the module documentation for the formula.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Base {

@@ -12,7 +12,7 @@ use std::f64::consts::PI;
 
 use rayon::prelude::*;
 
-use super::lobe::{Base, Lobe};
+use super::lobe::{Base, Lobe, DIELECTRIC_F0};
 use crate::factor::Pattern;
 
 /// The GGX widths $\alpha$ the fit tries: log-spaced from a near mirror to fully rough.
@@ -33,11 +33,10 @@ const REFINE_STEPS: usize = 12;
 /// ([`solve_ridged`]).
 const FRESNEL_RIDGE: f64 = 1e-4;
 
-/// Schlick's $(1 - F_0)/F_0$ of a dielectric of index 1.5 ($F_0 = 0.04$; plastics, paint
-/// binders, varnish and glass lie at 1.46–1.6): where a painting shows no grazing
-/// $\theta_d$, a dielectric's $k_f$ is ridged toward this times its grey $k_s$ (its Fresnel
-/// rise is the light's colour), not toward 0.
-const DIELECTRIC_FRESNEL: f64 = (1.0 - 0.04) / 0.04;
+/// Schlick's $(1 - F_0)/F_0$ of a dielectric ([`DIELECTRIC_F0`]): where a painting shows no
+/// grazing $\theta_d$, a dielectric's $k_f$ is ridged toward this times its grey $k_s$ (its
+/// Fresnel rise is the light's colour), not toward 0.
+const DIELECTRIC_FRESNEL: f64 = (1.0 - DIELECTRIC_F0) / DIELECTRIC_F0;
 
 /// A dielectric's $F_0$ changes by under 5% across the visible (dispersion), and a light's
 /// colour calibration adds a few percent per channel: a specular colour farther than this

@@ -21,8 +21,8 @@ use crate::brdf::Reflectance;
 use crate::factor::Query;
 use glam::DVec3;
 
-/// Schlick's $F_0$ of a glTF dielectric (index of refraction 1.5): $((1.5 - 1)/(1.5 + 1))^2$.
-pub const DIELECTRIC_F0: f64 = 0.04;
+/// Schlick's $F_0$ of a glTF dielectric (index of refraction 1.5).
+pub use crate::brdf::lobe::DIELECTRIC_F0;
 
 /// The smallest roughness a fit gives: $\alpha = 0.03^2$ is narrower than any table node
 /// resolves, and renderers clamp lower values anyway.
