@@ -15,6 +15,7 @@ use super::table::{self, Rows, Stencil};
 use crate::error::{Error, Result};
 
 /// Table coordinate of a query for one factor.
+#[inline]
 pub fn coordinate(spec: &FactorSpec, q: &Query) -> [f64; 2] {
     let [x, y] = unwarped(spec, q);
     // The node warp acts on the radius axis (Settings::validate allows it nowhere else).
@@ -22,6 +23,7 @@ pub fn coordinate(spec: &FactorSpec, q: &Query) -> [f64; 2] {
 }
 
 /// Table coordinate before the node warp.
+#[inline]
 fn unwarped(spec: &FactorSpec, q: &Query) -> [f64; 2] {
     let d = match &spec.input {
         Input::Light => q.l,
