@@ -12,6 +12,12 @@
 //! prints each picture's error (the centre's distance and the radius's, over the radius)
 //! and the worst per style, background and layout. `small` makes pictures of about 200×160
 //! (the ones kept in tests/data/disks).
+//!
+//! ```text
+//! cargo run --release --example disk_pictures -- --judge DIR
+//! ```
+//! judges pictures made elsewhere, listed in DIR/truth.csv the same way (MyPaint's painted
+//! exemplars, `tools/mypaint/make_exemplars.sh`), grouped by the words of their names.
 
 use std::f64::consts::PI;
 use std::path::Path;
@@ -206,17 +212,92 @@ fn picture(seed: u64, style: &str, bg: &str, kind: &str, small: bool) -> (image:
     (img, l)
 }
 
+/// How far the circle `Picture::read` finds is from the truth (the larger of the centre's
+/// distance and the radius's difference, over the radius; infinite if refused), printed.
+fn judge(path: &Path, name: &str, cx: f64, cy: f64, r: f64) -> f64 {
+    match Picture::read(path, MAX_SIDE) {
+        Ok(p) => {
+            let d = p.disk;
+            let (dc, dr) = (((d.cx - cx).powi(2) + (d.cy - cy).powi(2)).sqrt(), (d.r - r).abs());
+            println!("{name}: truth ({cx:.1}, {cy:.1}) r {r:.1}; found ({:.1}, {:.1}) r {:.1} from {:.0}% ({:?}): off {:.2}% / {:.2}% of r", d.cx, d.cy, d.r, 100.0 * p.seen, p.outline, 100.0 * dc / r, 100.0 * dr / r);
+            dc.max(dr) / r
+        }
+        Err(e) => {
+            println!("{name}: truth ({cx:.1}, {cy:.1}) r {r:.1}; REFUSED: {e}");
+            f64::INFINITY
+        }
+    }
+}
+
+/// The worst error per group and the counts within 2%, off by more than 5%, and refused.
+struct Tally {
+    worst: std::collections::BTreeMap<String, f64>,
+    total: usize,
+    within: usize,
+    wrong: usize,
+    refused: usize,
+}
+
+impl Tally {
+    fn new() -> Tally {
+        Tally { worst: Default::default(), total: 0, within: 0, wrong: 0, refused: 0 }
+    }
+
+    fn add(&mut self, err: f64, groups: &[String]) {
+        self.total += 1;
+        self.within += (err <= 0.02) as usize;
+        self.wrong += (err > 0.05 && err.is_finite()) as usize;
+        self.refused += err.is_infinite() as usize;
+        for key in groups {
+            let w = self.worst.entry(key.clone()).or_insert(0.0);
+            *w = w.max(err);
+        }
+    }
+
+    fn print(&self, set: &str) {
+        for (k, w) in &self.worst {
+            println!("worst, {k}: {:.2}% of r", 100.0 * w);
+        }
+        println!(
+            "{set}: {} of {} pictures with centre and radius within 2% of the radius, {} off by more than 5%, {} refused",
+            self.within, self.total, self.wrong, self.refused
+        );
+    }
+}
+
+/// `--judge DIR`: the pictures of DIR/truth.csv (name,cx,cy,r), made elsewhere
+/// (tools/mypaint/make_exemplars.sh), grouped by the dash-separated words of their names.
+fn judge_folder(dir: &Path) -> Result<(), Box<dyn std::error::Error>> {
+    let csv = std::fs::read_to_string(dir.join("truth.csv"))?;
+    let mut tally = Tally::new();
+    for line in csv.lines().skip(1).filter(|l| !l.trim().is_empty()) {
+        let f: Vec<&str> = line.split(',').collect();
+        let [name, cx, cy, r] = f[..] else { return Err(format!("truth.csv: not name,cx,cy,r: {line}").into()) };
+        let err = judge(&dir.join(name), name, cx.parse()?, cy.parse()?, r.parse()?);
+        let stem = name.trim_end_matches(".jpg");
+        let seed = |w: &str| w.strip_prefix('s').is_some_and(|n| n.parse::<u64>().is_ok());
+        let groups: Vec<String> = stem.split('-').filter(|w| !seed(w)).map(|w| format!("group {w}")).collect();
+        tally.add(err, &groups);
+    }
+    tally.print(&dir.display().to_string());
+    Ok(())
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    if let [flag, dir] = &args[..] {
+        if flag == "--judge" {
+            return judge_folder(Path::new(dir));
+        }
+    }
     let (out, first, last) = match &args[..] {
         [o, a, b, ..] => (Path::new(o).to_path_buf(), a.parse::<u64>()?, b.parse::<u64>()?),
-        _ => return Err("usage: disk_pictures OUT FIRST_SEED LAST_SEED [small]".into()),
+        _ => return Err("usage: disk_pictures OUT FIRST_SEED LAST_SEED [small] | disk_pictures --judge DIR".into()),
     };
     let small = args.get(3).is_some_and(|s| s == "small");
     std::fs::create_dir_all(&out)?;
     let mut truth = String::from("name,cx,cy,r\n");
-    let mut worst: std::collections::BTreeMap<String, f64> = Default::default();
-    let (mut total, mut within) = (0usize, 0usize);
+    let mut tally = Tally::new();
     for seed in first..=last {
         for (s, style) in STYLES.iter().enumerate() {
             for (b, bg) in BACKGROUNDS.iter().enumerate() {
@@ -230,32 +311,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, quality).encode_image(&img)?;
                     std::fs::write(&path, bytes)?;
                     truth.push_str(&format!("{name},{:.3},{:.3},{:.3}\n", l.cx, l.cy, l.r));
-                    let err = match Picture::read(&path, MAX_SIDE) {
-                        Ok(p) => {
-                            let d = p.disk;
-                            let (dc, dr) = (((d.cx - l.cx).powi(2) + (d.cy - l.cy).powi(2)).sqrt(), (d.r - l.r).abs());
-                            println!("{name}: truth ({:.1}, {:.1}) r {:.1}; found ({:.1}, {:.1}) r {:.1} from {:.0}% ({:?}): off {:.2}% / {:.2}% of r", l.cx, l.cy, l.r, d.cx, d.cy, d.r, 100.0 * p.seen, p.outline, 100.0 * dc / l.r, 100.0 * dr / l.r);
-                            dc.max(dr) / l.r
-                        }
-                        Err(e) => {
-                            println!("{name}: truth ({:.1}, {:.1}) r {:.1}; REFUSED: {e}", l.cx, l.cy, l.r);
-                            f64::INFINITY
-                        }
-                    };
-                    total += 1;
-                    within += (err <= 0.02) as usize;
-                    for key in [format!("style {style}"), format!("background {bg}"), format!("layout {kind}")] {
-                        let w = worst.entry(key).or_insert(0.0);
-                        *w = w.max(err);
-                    }
+                    let err = judge(&path, &name, l.cx, l.cy, l.r);
+                    tally.add(err, &[format!("style {style}"), format!("background {bg}"), format!("layout {kind}")]);
                 }
             }
         }
     }
     std::fs::write(out.join("truth.csv"), truth)?;
-    for (k, w) in &worst {
-        println!("worst, {k}: {:.2}% of r", 100.0 * w);
-    }
-    println!("seeds {first}..={last}: {within} of {total} pictures with centre and radius within 2% of the radius");
+    tally.print(&format!("seeds {first}..={last}"));
     Ok(())
 }
