@@ -150,7 +150,10 @@ pub fn circles(edges: &[Edge], w: usize, h: usize, r_min: f64, r_max: f64) -> Ve
         .filter_map(|(c, r)| refine(edges, Disk { cx: c.x, cy: c.y, r }, w, h))
         .filter(|s| s.disk.r >= r_min && s.disk.r <= r_max)
         .collect();
-    found.sort_by(|a, b| (b.seen * b.disk.r).total_cmp(&(a.seen * a.disk.r)));
+    // Ranked by the arc a crisp outline shows: a wider, painted tolerance lets a larger
+    // circle through the outline and the shadow's edge gather about as much.
+    let arc = |s: &Support| seen_within(edges, &s.disk, tolerance(s.disk.r), w, h).0 * s.disk.r;
+    found.sort_by(|a, b| arc(b).total_cmp(&arc(a)));
     // The same circle found from two candidates counts once.
     let mut distinct: Vec<Support> = Vec::new();
     for s in found {
@@ -263,14 +266,51 @@ fn radius_at(edges: &[Edge], c: DVec2, r_min: f64, r_max: f64, width: f64) -> Op
         .map(|(r, _)| r as f64 + 0.5)
 }
 
-/// Distance from the outline within which an edge point is on it, pixels: the sub-pixel
-/// edge's error under JPEG (about half a pixel) plus a painter's wobble of 0.5% of the radius.
+/// Distance from a crisp outline within which an edge point is on it, pixels: the sub-pixel
+/// edge's error under JPEG (about half a pixel) plus a wobble of 0.5% of the radius.
 pub fn tolerance(r: f64) -> f64 {
     1.0 + 0.005 * r
 }
 
+/// The widest wobble allowed a painted outline, as a share of the radius: painters finish
+/// an outline with their smallest brushes, of radius 2–4% of the sphere's (1.6–4.5% in the
+/// MyPaint presets of tools/mypaint), and a stroke that crosses it moves it by about that.
+const PAINTED_WOBBLE: f64 = 0.03;
+
+/// Edge points within this many of the outline's own standard deviations are on it (99%
+/// of a normal spread).
+const WOBBLE_SDS: f64 = 2.5;
+
+/// Distance from `disk`'s outline within which an edge point is on it, pixels: the crisp
+/// [`tolerance`], widened to the outline's own measured spread where it is painted, up to
+/// [`PAINTED_WOBBLE`]. The spread is a robust one (the median absolute deviation) of the
+/// radial edge points' distances within the widest band, so strays and other curves
+/// crossing the band do not set it.
+pub fn outline_tolerance(edges: &[Edge], disk: &Disk) -> f64 {
+    let (crisp, widest) = (tolerance(disk.r), 1.0 + PAINTED_WOBBLE * disk.r);
+    let c = DVec2::new(disk.cx, disk.cy);
+    let mut off: Vec<f64> = edges
+        .iter()
+        .filter_map(|e| {
+            let d = e.p - c;
+            let r = d.length();
+            ((r - disk.r).abs() <= widest && r > 0.0 && (e.g.dot(d) / r).abs() >= RADIAL_COS).then_some(r - disk.r)
+        })
+        .collect();
+    if off.len() < 8 {
+        return crisp;
+    }
+    off.sort_by(f64::total_cmp);
+    let median = off[off.len() / 2];
+    let mut dev: Vec<f64> = off.iter().map(|x| (x - median).abs()).collect();
+    dev.sort_by(f64::total_cmp);
+    let sd = 1.4826 * dev[dev.len() / 2];
+    (WOBBLE_SDS * sd).clamp(crisp, widest)
+}
+
 /// `start` refined: geometric least squares on the edge points near it with a radial
-/// gradient, the band narrowing from the Hough bin to [`tolerance`]. `None` when too few.
+/// gradient, the band narrowing from the Hough bin to [`tolerance`], then once more on the
+/// outline's own spread ([`outline_tolerance`]). `None` when too few.
 pub fn refine(edges: &[Edge], start: Disk, w: usize, h: usize) -> Option<Support> {
     let mut disk = start;
     for band in [6.0, 4.0, 2.0, 1.0] {
@@ -279,6 +319,12 @@ pub fn refine(edges: &[Edge], start: Disk, w: usize, h: usize) -> Option<Support
         if near.len() < 8 {
             return None;
         }
+        disk = geometric(&near, disk)?;
+    }
+    // A painted outline spreads wider than a crisp one: fit it again on all of its spread.
+    let tol = outline_tolerance(edges, &disk);
+    if tol > tolerance(disk.r) {
+        let near: Vec<DVec2> = on_outline(edges, &disk, tol).collect();
         disk = geometric(&near, disk)?;
     }
     Some(support(edges, &disk, w, h))
@@ -326,12 +372,19 @@ fn geometric(points: &[DVec2], start: Disk) -> Option<Disk> {
 }
 
 /// How much of `disk`'s outline the edge points cover: bins of about two pixels of arc,
-/// each seen when an edge point within [`tolerance`] with a radial gradient falls in it.
+/// each seen when an edge point within [`outline_tolerance`] with a radial gradient falls in it.
 pub fn support(edges: &[Edge], disk: &Disk, w: usize, h: usize) -> Support {
+    let (seen, seen_in_frame) = seen_within(edges, disk, outline_tolerance(edges, disk), w, h);
+    Support { disk: *disk, seen, seen_in_frame }
+}
+
+/// The shares of `disk`'s whole outline and of its outline inside the frame with an edge
+/// point within `tol` whose gradient is radial.
+fn seen_within(edges: &[Edge], disk: &Disk, tol: f64, w: usize, h: usize) -> (f64, f64) {
     let n = ((std::f64::consts::TAU * disk.r / 2.0).round() as usize).clamp(16, 2048);
     let mut seen = vec![false; n];
     let c = DVec2::new(disk.cx, disk.cy);
-    for p in on_outline(edges, disk, tolerance(disk.r)) {
+    for p in on_outline(edges, disk, tol) {
         let a = (p - c).to_angle().rem_euclid(std::f64::consts::TAU);
         seen[((a / std::f64::consts::TAU * n as f64) as usize).min(n - 1)] = true;
     }
@@ -342,22 +395,33 @@ pub fn support(edges: &[Edge], disk: &Disk, w: usize, h: usize) -> Support {
     };
     let visible = (0..n).filter(|&k| in_frame(k)).count();
     let seen_visible = (0..n).filter(|&k| seen[k] && in_frame(k)).count();
-    Support {
-        disk: *disk,
-        seen: seen.iter().filter(|&&s| s).count() as f64 / n as f64,
-        seen_in_frame: if visible == 0 { 0.0 } else { seen_visible as f64 / visible as f64 },
+    let all = seen.iter().filter(|&&s| s).count() as f64 / n as f64;
+    (all, if visible == 0 { 0.0 } else { seen_visible as f64 / visible as f64 })
+}
+
+/// The share of `disk`'s outline in the frame its edges cover beyond chance: the share a
+/// ring of the same centre and tolerance covers a little inside and outside the outline
+/// (where only shading, strokes, grain and the shadow's edge are) is what texture alone
+/// gives, and `seen_in_frame` counts only what exceeds it: $(s - s_0)/(1 - s_0)$.
+pub fn seen_beyond_chance(edges: &[Edge], s: &Support, w: usize, h: usize) -> f64 {
+    let tol = outline_tolerance(edges, &s.disk);
+    let rings = [0.85, 0.9, 1.1, 1.15];
+    let chance = rings.iter().map(|k| seen_within(edges, &Disk { r: s.disk.r * k, ..s.disk }, tol, w, h).1).sum::<f64>() / rings.len() as f64;
+    if chance >= 1.0 {
+        return 0.0;
     }
+    ((s.seen_in_frame - chance) / (1.0 - chance)).max(0.0)
 }
 
 /// How the edges' gradient turns along the seen arcs of `disk`'s outline, per radian of
 /// arc: about 0 on a circle, whose gradient stays radial as the arc turns, and about -1 on
-/// a straight edge passing within [`tolerance`] of it (a polygon's side), whose gradient
+/// a straight edge passing within [`outline_tolerance`] of it (a polygon's side), whose gradient
 /// keeps its direction, so its angle from the radial one falls as fast as the arc turns.
 /// A least-squares slope pooled over the runs of points (each centred on its own mean), so
 /// noise in the gradient's direction averages out; 0 when there is no run to measure.
 pub fn turning(edges: &[Edge], disk: &Disk) -> f64 {
     let c = DVec2::new(disk.cx, disk.cy);
-    let tol = tolerance(disk.r);
+    let tol = outline_tolerance(edges, disk);
     let mut pts: Vec<(f64, f64)> = edges
         .iter()
         .filter_map(|e| {

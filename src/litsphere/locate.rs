@@ -10,9 +10,10 @@ use super::{Disk, Located, Outline};
 use crate::error::{Error, Result};
 use crate::images::{neighbours4, Painting};
 
-/// Least share of the outline inside the frame an edge-fitted circle must show to be taken
-/// as the sphere: a square's inscribed circle gets about 40% from its four sides (radial
-/// within 20°, within a pixel), a sphere whose shadow hides its lower third about 60%.
+/// Least share of the outline inside the frame an edge-fitted circle must show, beyond what
+/// the picture's texture gives any ring ([`edges::seen_beyond_chance`]), to be taken as the
+/// sphere: a square's inscribed circle gets about 40% from its four sides (radial within
+/// 20°, within a pixel), a sphere whose shadow hides its lower third about 60%.
 pub const MIN_SEEN: f64 = 0.5;
 
 /// A circle's edge gradients turn with its arc (a turning of 0, [`edges::turning`]); a
@@ -27,6 +28,12 @@ const BETTER_BY: f64 = 0.15;
 /// An edge circle this close to a square picture's inscribed one (a share of its radius,
 /// centre and radius) is the MatCap layout, and the disk is the inscribed circle exactly.
 const MATCAP_MATCH: f64 = 0.02;
+
+/// The smallest radius a sphere found in a picture may have: a tenth of its shorter side
+/// (a smaller round shape is a highlight or a detail, not an exemplar's sphere), and 4 pixels.
+fn min_radius(w: usize, h: usize) -> f64 {
+    (w.min(h) as f64 / 10.0).max(4.0)
+}
 
 fn near(a: &Disk, b: &Disk, share: f64) -> bool {
     let tol = share * b.r;
@@ -89,12 +96,11 @@ pub fn find_disk(p: &Painting, name: &str) -> Result<(Disk, Outline)> {
 /// The circle the picture's edges support best, if it shows at least [`MIN_SEEN`] of its
 /// outline inside the frame. Error: two disjoint circles both that well supported.
 fn edge_circle(edges: &[edges::Edge], w: usize, h: usize, name: &str) -> Result<Option<edges::Support>> {
-    // A sphere is at least a tenth of the picture's shorter side (smaller ones are not
-    // exemplars), and may be cut by the frame: up to the longer side across.
-    let (r_min, r_max) = ((w.min(h) as f64 / 10.0).max(4.0), w.max(h) as f64 / 2.0);
+    // A sphere may be cut by the frame: up to the longer side across.
+    let (r_min, r_max) = (min_radius(w, h), w.max(h) as f64 / 2.0);
     let good: Vec<edges::Support> = edges::circles(edges, w, h, r_min, r_max)
         .into_iter()
-        .filter(|s| s.seen_in_frame >= MIN_SEEN && edges::turning(edges, &s.disk) > STRAIGHT_TURNING)
+        .filter(|s| edges::seen_beyond_chance(edges, s, w, h) >= MIN_SEEN && edges::turning(edges, &s.disk) > STRAIGHT_TURNING)
         .collect();
     let Some(best) = good.first().copied() else { return Ok(None) };
     let apart = |a: &Disk, b: &Disk| ((a.cx - b.cx).powi(2) + (a.cy - b.cy).powi(2)).sqrt() >= 0.95 * (a.r + b.r);
@@ -187,6 +193,10 @@ fn outline_circle(mask: &[bool], boundary: Boundary, w: usize, h: usize, name: &
         .ok_or_else(|| Error::input(format!("{name}: no disk found (the shape's outline is not a circle)")))?;
     // Round: the shape fills its circle.
     let circle_area = std::f64::consts::PI * disk.r * disk.r;
+    // An alpha says where the sphere is, whatever its size; a colour key may find a highlight.
+    if boundary == Boundary::Key && disk.r < min_radius(w, h) {
+        return Err(Error::input(format!("{name}: no disk found (the round shape, {:.0} pixels across, is too small for a sphere)", 2.0 * disk.r)));
+    }
     if !(0.8..=1.1).contains(&(area as f64 / circle_area)) || disk.r < 4.0 {
         return Err(Error::input(format!(
             "{name}: no disk found (the shape is not round: it fills {:.0}% of its circle)",
