@@ -32,6 +32,9 @@ pub struct Support {
     pub seen: f64,
     /// Share of the outline inside the picture with an edge point on it.
     pub seen_in_frame: f64,
+    /// The distance from the outline within which an edge point counted, pixels
+    /// ([`outline_tolerance`]).
+    pub tolerance: f64,
 }
 
 /// Gaussian blur before the gradient, pixels: JPEG's 8×8 blocks and paper grain are noise
@@ -145,18 +148,19 @@ fn bilinear(v: &[f32], w: usize, h: usize, x: f64, y: f64) -> f64 {
 /// Circles the edges support, best first: Hough candidates ([`hough`]), each refined
 /// ([`refine`]), with radii from `r_min` to `r_max` pixels.
 pub fn circles(edges: &[Edge], w: usize, h: usize, r_min: f64, r_max: f64) -> Vec<Support> {
-    let mut found: Vec<Support> = hough(edges, w, h, r_min, r_max)
+    // Ranked by the arc a crisp outline shows: a wider, painted tolerance lets a larger
+    // circle through the outline and the shadow's edge gather about as much.
+    let crisp_arc = |s: &Support| seen_within(edges, &s.disk, tolerance(s.disk.r), w, h).0 * s.disk.r;
+    let mut ranked: Vec<(f64, Support)> = hough(edges, w, h, r_min, r_max)
         .into_iter()
         .filter_map(|(c, r)| refine(edges, Disk { cx: c.x, cy: c.y, r }, w, h))
         .filter(|s| s.disk.r >= r_min && s.disk.r <= r_max)
+        .map(|s| (crisp_arc(&s), s))
         .collect();
-    // Ranked by the arc a crisp outline shows: a wider, painted tolerance lets a larger
-    // circle through the outline and the shadow's edge gather about as much.
-    let arc = |s: &Support| seen_within(edges, &s.disk, tolerance(s.disk.r), w, h).0 * s.disk.r;
-    found.sort_by(|a, b| arc(b).total_cmp(&arc(a)));
+    ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
     // The same circle found from two candidates counts once.
     let mut distinct: Vec<Support> = Vec::new();
-    for s in found {
+    for (_, s) in ranked {
         if !distinct.iter().any(|d| same(&d.disk, &s.disk)) {
             distinct.push(s);
         }
@@ -289,14 +293,7 @@ const WOBBLE_SDS: f64 = 2.5;
 pub fn outline_tolerance(edges: &[Edge], disk: &Disk) -> f64 {
     let (crisp, widest) = (tolerance(disk.r), 1.0 + PAINTED_WOBBLE * disk.r);
     let c = DVec2::new(disk.cx, disk.cy);
-    let mut off: Vec<f64> = edges
-        .iter()
-        .filter_map(|e| {
-            let d = e.p - c;
-            let r = d.length();
-            ((r - disk.r).abs() <= widest && r > 0.0 && (e.g.dot(d) / r).abs() >= RADIAL_COS).then_some(r - disk.r)
-        })
-        .collect();
+    let mut off: Vec<f64> = on_outline(edges, disk, widest).map(|p| p.distance(c) - disk.r).collect();
     if off.len() < 8 {
         return crisp;
     }
@@ -374,8 +371,9 @@ fn geometric(points: &[DVec2], start: Disk) -> Option<Disk> {
 /// How much of `disk`'s outline the edge points cover: bins of about two pixels of arc,
 /// each seen when an edge point within [`outline_tolerance`] with a radial gradient falls in it.
 pub fn support(edges: &[Edge], disk: &Disk, w: usize, h: usize) -> Support {
-    let (seen, seen_in_frame) = seen_within(edges, disk, outline_tolerance(edges, disk), w, h);
-    Support { disk: *disk, seen, seen_in_frame }
+    let tolerance = outline_tolerance(edges, disk);
+    let (seen, seen_in_frame) = seen_within(edges, disk, tolerance, w, h);
+    Support { disk: *disk, seen, seen_in_frame, tolerance }
 }
 
 /// The shares of `disk`'s whole outline and of its outline inside the frame with an edge
@@ -404,9 +402,8 @@ fn seen_within(edges: &[Edge], disk: &Disk, tol: f64, w: usize, h: usize) -> (f6
 /// (where only shading, strokes, grain and the shadow's edge are) is what texture alone
 /// gives, and `seen_in_frame` counts only what exceeds it: $(s - s_0)/(1 - s_0)$.
 pub fn seen_beyond_chance(edges: &[Edge], s: &Support, w: usize, h: usize) -> f64 {
-    let tol = outline_tolerance(edges, &s.disk);
     let rings = [0.85, 0.9, 1.1, 1.15];
-    let chance = rings.iter().map(|k| seen_within(edges, &Disk { r: s.disk.r * k, ..s.disk }, tol, w, h).1).sum::<f64>() / rings.len() as f64;
+    let chance = rings.iter().map(|k| seen_within(edges, &Disk { r: s.disk.r * k, ..s.disk }, s.tolerance, w, h).1).sum::<f64>() / rings.len() as f64;
     if chance >= 1.0 {
         return 0.0;
     }

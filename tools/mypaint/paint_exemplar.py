@@ -25,7 +25,7 @@ import numpy as np
 from PIL import Image
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from paint_sphere import EXTRA_PASSES, PRESETS, SATISFIED, Painter  # noqa: E402
+from paint_sphere import PRESETS, Painter, paint  # noqa: E402
 
 LAYOUTS = ("middle", "edge", "hidden")
 STYLES = ("lambert", "toon")
@@ -119,14 +119,7 @@ def main():
     painter = Painter(truth, mask, p, rng, set())
     # Brush sizes and stroke lengths are in sphere radii, as for a sphere painted alone.
     painter.centre, painter.R = np.array([cx, cy]), r
-    for radius, cover in zip(p["radii"], p["cover"]):
-        painter.paint_pass(radius, cover)
-    for _ in range(EXTRA_PASSES):
-        if painter.error().mean() < SATISFIED:
-            break
-        painter.paint_pass(p["radii"][-1], p["cover"][-1])
-    small = p["radii"][-1] / 2
-    painter.paint_pass(small, 0.5, focus=2, lengths=(small, 4 * small))
+    paint(painter)
     pixels = np.round(painter.picture() * 255).astype(np.uint8)
     quality = 70 + zlib.crc32(key + bytes([a.seed % 256])) % 21
     Image.fromarray(pixels).save(a.out, quality=int(quality))

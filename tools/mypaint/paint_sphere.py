@@ -268,6 +268,22 @@ class Painter:
             self.stroke(pts, colour, self.rng.uniform(*STRAY_WIDTH) * self.R, 0.9, stray=True)
 
 
+def paint(painter):
+    """The painter's passes: each preset brush size in turn, more with the smallest while
+    the canvas is visibly off, then the last touches."""
+    p = painter.p
+    for radius, cover in zip(p["radii"], p["cover"]):
+        painter.paint_pass(radius, cover)
+    # The painter goes on with the smallest brush while the canvas is visibly off.
+    for _ in range(EXTRA_PASSES):
+        if painter.error()[painter.mask].mean() < SATISFIED:
+            break
+        painter.paint_pass(p["radii"][-1], p["cover"][-1])
+    # Last touches with a brush half the size, short dabs: highlights, accents.
+    small = p["radii"][-1] / 2
+    painter.paint_pass(small, DETAILS, focus=2, lengths=(small, 4 * small))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("truth")
@@ -284,16 +300,7 @@ def main():
     rng = np.random.default_rng([a.seed, zlib.crc32(a.preset.encode()), int(bool(a.faults))])
     p = PRESETS[a.preset]
     painter = Painter(truth, mask, p, rng, a.faults)
-    for radius, cover in zip(p["radii"], p["cover"]):
-        painter.paint_pass(radius, cover)
-    # The painter goes on with the smallest brush while the canvas is visibly off.
-    for _ in range(EXTRA_PASSES):
-        if painter.error()[mask].mean() < SATISFIED:
-            break
-        painter.paint_pass(p["radii"][-1], p["cover"][-1])
-    # Last touches with a brush half the size, short dabs: highlights, accents.
-    small = p["radii"][-1] / 2
-    painter.paint_pass(small, DETAILS, focus=2, lengths=(small, 4 * small))
+    paint(painter)
     if "strays" in a.faults:
         painter.strays()
     out = painter.picture()
