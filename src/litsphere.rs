@@ -37,7 +37,7 @@ use crate::error::{Error, Result};
 use crate::factor::cache::Cache;
 use crate::factor::Settings;
 use crate::images::{Painting, Shrink};
-use crate::note::Note;
+use crate::note::{DiskFrom, Note};
 use crate::pipeline::{Fitted, Options};
 use crate::scene::{sphere_mesh, Camera, Light, Projection, Scene};
 use crate::sample::{Erosion, PaintedView, SceneSampler};
@@ -92,6 +92,9 @@ pub enum Outline {
     /// A circle fitted to the arc of the outline that the picture's edges show (a sphere in
     /// context: on a table, with its shadow, on a textured background).
     Edges,
+    /// The best circle on the picture's edges where none shows a clear arc (less than
+    /// [`MIN_SEEN`] of its outline, at least [`locate::MIN_FAINT`]): to be checked.
+    Faint,
     /// No clear outline in a square picture: the disk inscribed in it, as in every MatCap.
     Inscribed,
     /// Given by the user (`--disk`).
@@ -113,7 +116,12 @@ impl Located {
     /// of them to one of the picture as fitted).
     pub fn note(&self, name: &str, scale: f64) -> Note {
         let d = &self.disk;
-        Note::Disk { picture: name.to_string(), cx: d.cx * scale, cy: d.cy * scale, r: d.r * scale, seen: self.seen, given: self.outline == Outline::Given }
+        let from = match self.outline {
+            Outline::Given => DiskFrom::Given,
+            Outline::Faint => DiskFrom::Faint,
+            Outline::Alpha | Outline::Background | Outline::Edges | Outline::Inscribed => DiskFrom::Found,
+        };
+        Note::Disk { picture: name.to_string(), cx: d.cx * scale, cy: d.cy * scale, r: d.r * scale, seen: self.seen, from }
     }
 }
 

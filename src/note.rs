@@ -57,9 +57,9 @@ pub enum Note {
     Encodings { linear: usize, srgb: usize, float: usize },
     /// How many of the photographs' object pixels are samples, and why the others are not.
     PhotoSamples { images: usize, object: usize, kept: usize, saturated: usize, unlit: usize, dark: usize },
-    /// Where a lit sphere's disk is (pixels of the file: centre, radius) and the share of
-    /// its outline the picture shows there (`seen`, 0 to 1); `given` by the user or found.
-    Disk { picture: String, cx: f64, cy: f64, r: f64, seen: f64, given: bool },
+    /// Where a lit sphere's disk is (pixels of the file: centre, radius), the share of its
+    /// outline the picture shows there (`seen`, 0 to 1), and where it came `from`.
+    Disk { picture: String, cx: f64, cy: f64, r: f64, seen: f64, from: DiskFrom },
     /// A lit sphere's light that the picture cannot decide: directions up to `spread_deg`
     /// from the one chosen explain its shading as well, and the plausible key light among
     /// them (upper front) was taken.
@@ -77,6 +77,17 @@ pub enum Note {
     KeptColours { identity: bool, before: f64, after: f64 },
     /// A scene with several cameras or lights (`what`), of which the first (`used`) is used.
     FirstOfMany { scene: String, what: &'static str, count: usize, used: String },
+}
+
+/// Where a lit sphere's disk came from ([`Note::Disk`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DiskFrom {
+    /// Found on a clear outline: the picture's alpha, background or edges.
+    Found,
+    /// Found on a faint arc of the edges, the best of none clear: to be checked.
+    Faint,
+    /// Given by the user.
+    Given,
 }
 
 /// What a user can do about a note; the command line names the option.
@@ -123,7 +134,7 @@ impl Note {
             Note::Regional { .. } => Some(Remedy::MaterialMap),
             Note::FacingAway { camera_given: false, .. } => Some(Remedy::CameraDirection),
             Note::Encodings { .. } => Some(Remedy::Encoding),
-            Note::Disk { given: false, .. } => Some(Remedy::GiveDisk),
+            Note::Disk { from: DiskFrom::Found | DiskFrom::Faint, .. } => Some(Remedy::GiveDisk),
             Note::LightUndecided { .. } | Note::LightBehind { .. } => Some(Remedy::GiveLight),
             Note::Style { decided: true, .. } => Some(Remedy::Style),
             Note::KeptColours { .. } => Some(Remedy::Colours),
@@ -134,7 +145,7 @@ impl Note {
             | Note::FirstOfMany { .. }
             | Note::FacingAway { camera_given: true, .. }
             | Note::PhotoSamples { .. }
-            | Note::Disk { given: true, .. } => None,
+            | Note::Disk { from: DiskFrom::Given, .. } => None,
         }
     }
 
@@ -215,10 +226,16 @@ impl fmt::Display for Note {
                 if *images == 1 { "" } else { "s" },
                 unlit + dark
             ),
-            Note::Disk { picture, cx, cy, r, seen, given: false } => {
+            Note::Disk { picture, cx, cy, r, seen, from: DiskFrom::Found } => {
                 write!(f, "{}: disk at ({cx:.1}, {cy:.1}), radius {r:.1}, from {:.0}% of its outline", one_line(picture), 100.0 * seen)
             }
-            Note::Disk { picture, cx, cy, r, seen, given: true } => write!(
+            Note::Disk { picture, cx, cy, r, seen, from: DiskFrom::Faint } => write!(
+                f,
+                "{}: disk at ({cx:.1}, {cy:.1}), radius {r:.1}, from a faint arc, {:.0}% of its outline (no clearer one): check that it is the sphere",
+                one_line(picture),
+                100.0 * seen
+            ),
+            Note::Disk { picture, cx, cy, r, seen, from: DiskFrom::Given } => write!(
                 f,
                 "{}: disk at ({cx:.1}, {cy:.1}), radius {r:.1}, as given; the picture shows {:.0}% of that outline",
                 one_line(picture),
@@ -283,8 +300,9 @@ mod tests {
             Note::FacingAway { map: "n.png".into(), percent: 40.0, camera_given: false },
             Note::Encodings { linear: 2, srgb: 0, float: 1 },
             Note::PhotoSamples { images: 3, object: 100, kept: 80, saturated: 5, unlit: 10, dark: 5 },
-            Note::Disk { picture: "s.jpg".into(), cx: 100.0, cy: 90.5, r: 60.0, seen: 0.78, given: false },
-            Note::Disk { picture: "s.jpg".into(), cx: 100.0, cy: 90.5, r: 60.0, seen: 0.78, given: true },
+            Note::Disk { picture: "s.jpg".into(), cx: 100.0, cy: 90.5, r: 60.0, seen: 0.78, from: DiskFrom::Found },
+            Note::Disk { picture: "s.jpg".into(), cx: 100.0, cy: 90.5, r: 60.0, seen: 0.42, from: DiskFrom::Faint },
+            Note::Disk { picture: "s.jpg".into(), cx: 100.0, cy: 90.5, r: 60.0, seen: 0.78, from: DiskFrom::Given },
             Note::LightUndecided { picture: "m.exr".into(), spread_deg: 40.0 },
             Note::LightBehind { picture: "m.exr".into() },
             Note::Style { picture: "toon.png".into(), stylized: true, decided: true, tones: 3, share: 0.97 },
@@ -295,6 +313,6 @@ mod tests {
             let line = note.to_string();
             assert!(!line.contains('\n') && !line.contains("--"), "{line}");
         }
-        assert_eq!(notes.iter().filter(|n| n.remedy().is_some()).count(), 14);
+        assert_eq!(notes.iter().filter(|n| n.remedy().is_some()).count(), 15);
     }
 }

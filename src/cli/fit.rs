@@ -370,6 +370,7 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
         litsphere::Outline::Alpha => "its alpha",
         litsphere::Outline::Background => "its background",
         litsphere::Outline::Edges => "the arc its edges show",
+        litsphere::Outline::Faint => "a faint arc of its edges, no clear one (the viewer draws the circle; drag it there or give --disk CX,CY,R)",
         litsphere::Outline::Inscribed => "none clear: taken as a MatCap, the disk inscribed in the square",
         litsphere::Outline::Given => "--disk",
     };

@@ -63,6 +63,7 @@ fn outline(o: Outline) -> &'static str {
         Outline::Background => "from its background",
         Outline::Inscribed => "a MatCap: the disk inscribed in the square",
         Outline::Edges => "from the arc its edges show",
+        Outline::Faint => "from a faint arc: check it",
         Outline::Given => "given by hand",
     }
 }

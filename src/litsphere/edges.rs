@@ -37,6 +37,13 @@ pub struct Support {
     pub tolerance: f64,
 }
 
+/// Blur of the coarse edges that propose circles ([`coarse_points`]), pixels: paper grain,
+/// bristle marks and the ragged ends of strokes across a painted outline (1–3 pixels) turn
+/// each fine edge point's gradient by several degrees, which moves its vote by r·sin of
+/// that; at 4 pixels they average out, while a sphere of the smallest radius looked for
+/// (a tenth of the shorter side, 25 pixels or more) keeps its outline as an edge.
+const COARSE_SIGMA: f64 = 4.0;
+
 /// Gaussian blur before the gradient, pixels: JPEG's 8×8 blocks and paper grain are noise
 /// at the scale of one or two pixels; the outline is an edge at every scale.
 const SIGMA: f64 = 1.2;
@@ -50,7 +57,17 @@ const RADIAL_COS: f64 = 0.94; // cos 20°
 /// `w` × `h` values. A gradient is an edge when it stands out of the picture's noise: more
 /// than [`NOISE_FACTOR`] times the median gradient (the median pixel is flat: grain, JPEG).
 pub fn points(channels: &[Vec<f32>], w: usize, h: usize) -> Vec<Edge> {
-    let blurred: Vec<Vec<f32>> = channels.iter().map(|c| blur(c, w, h, SIGMA)).collect();
+    points_at(channels, w, h, SIGMA)
+}
+
+/// [`points`] at a coarser scale ([`COARSE_SIGMA`]), where a painted outline's edge keeps its
+/// direction: they vote for circles beside the fine ones ([`circles`]).
+pub fn coarse_points(channels: &[Vec<f32>], w: usize, h: usize) -> Vec<Edge> {
+    points_at(channels, w, h, COARSE_SIGMA)
+}
+
+fn points_at(channels: &[Vec<f32>], w: usize, h: usize, sigma: f64) -> Vec<Edge> {
+    let blurred: Vec<Vec<f32>> = channels.iter().map(|c| blur(c, w, h, sigma)).collect();
     let (mag, dir) = gradient(&blurred, w, h);
     let mut sorted: Vec<f32> = mag.iter().copied().filter(|&m| m > 0.0).collect();
     if sorted.len() < 16 {
@@ -145,14 +162,16 @@ fn bilinear(v: &[f32], w: usize, h: usize, x: f64, y: f64) -> f64 {
     (at(i, j) * (1.0 - fx) + at(i + 1, j) * fx) * (1.0 - fy) + (at(i, j + 1) * (1.0 - fx) + at(i + 1, j + 1) * fx) * fy
 }
 
-/// Circles the edges support, best first: Hough candidates ([`hough`]), each refined
+/// Circles the edges support, best first: Hough candidates ([`hough`]) of the fine `edges`
+/// and of the `coarse` ones ([`coarse_points`]), each refined on the fine edges
 /// ([`refine`]), with radii from `r_min` to `r_max` pixels.
-pub fn circles(edges: &[Edge], w: usize, h: usize, r_min: f64, r_max: f64) -> Vec<Support> {
+pub fn circles(edges: &[Edge], coarse: &[Edge], w: usize, h: usize, r_min: f64, r_max: f64) -> Vec<Support> {
     // Ranked by the arc a crisp outline shows: a wider, painted tolerance lets a larger
     // circle through the outline and the shadow's edge gather about as much.
     let crisp_arc = |s: &Support| seen_within(edges, &s.disk, tolerance(s.disk.r), w, h).0 * s.disk.r;
-    let mut ranked: Vec<(f64, Support)> = hough(edges, w, h, r_min, r_max)
-        .into_iter()
+    let mut ranked: Vec<(f64, Support)> = [edges, coarse]
+        .iter()
+        .flat_map(|v| hough(v, w, h, r_min, r_max))
         .filter_map(|(c, r)| refine(edges, Disk { cx: c.x, cy: c.y, r }, w, h))
         .filter(|s| s.disk.r >= r_min && s.disk.r <= r_max)
         .map(|s| (crisp_arc(&s), s))

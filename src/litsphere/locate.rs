@@ -16,6 +16,12 @@ use crate::images::{neighbours4, Painting};
 /// 20°, within a pixel), a sphere whose shadow hides its lower third about 60%.
 pub const MIN_SEEN: f64 = 0.5;
 
+/// Least share beyond chance of a circle taken when no circle shows [`MIN_SEEN`]: a painted
+/// sphere whose dark side merges with its shadow and the table shows only its lit half
+/// (about 45%), and a third of its outline, the lit arc above the terminator, still fixes
+/// the circle (three points do). The outline is then reported as faint, for the user to check.
+pub const MIN_FAINT: f64 = 1.0 / 3.0;
+
 /// A circle's edge gradients turn with its arc (a turning of 0, [`edges::turning`]); a
 /// polygon's sides tangent to a circle keep their direction (-1): halfway tells them apart.
 /// (A square's sides cover half of its inscribed circle within tolerance, as a sphere does.)
@@ -60,13 +66,15 @@ pub fn locate(p: &Painting, name: &str) -> Result<Located> {
     let like_border: Vec<bool> = distance.iter().map(|&d| d <= t).collect();
     let background = connected_to_border(&like_border, w, h);
     let mask: Vec<bool> = background.iter().map(|&b| !b).collect();
-    let edges = edges::points(&perceptual_channels(p), w, h);
+    let channels = perceptual_channels(p);
+    let edges = edges::points(&channels, w, h);
+    let coarse = edges::coarse_points(&channels, w, h);
     let segmented = outline_circle(&mask, Boundary::Key, w, h, name);
     let square = w.abs_diff(h) <= 1;
     let inscribed = Disk { cx: w as f64 / 2.0, cy: h as f64 / 2.0, r: w.min(h) as f64 / 2.0 };
-    let by_edges = edge_circle(&edges, w, h, name);
+    let by_edges = edge_circle(&edges, &coarse, w, h, name);
     match (segmented, by_edges) {
-        (Ok(disk), Ok(Some(e))) => {
+        (Ok(disk), Ok(EdgeCircle::Clear(e))) => {
             let own = edges::support(&edges, &disk, w, h);
             Ok(if e.seen_in_frame > own.seen_in_frame + BETTER_BY {
                 Located { disk: e.disk, outline: Outline::Edges, seen: e.seen }
@@ -75,9 +83,10 @@ pub fn locate(p: &Painting, name: &str) -> Result<Located> {
             })
         }
         (Ok(disk), _) => Ok(Located { disk, outline: Outline::Background, seen: edges::support(&edges, &disk, w, h).seen }),
-        (Err(_), Ok(Some(e))) if !(square && near(&e.disk, &inscribed, MATCAP_MATCH)) => Ok(Located { disk: e.disk, outline: Outline::Edges, seen: e.seen }),
+        (Err(_), Ok(EdgeCircle::Clear(e))) if !(square && near(&e.disk, &inscribed, MATCAP_MATCH)) => Ok(Located { disk: e.disk, outline: Outline::Edges, seen: e.seen }),
         (Err(_), Err(two)) => Err(two),
         (Err(_), _) if square => Ok(Located { disk: inscribed, outline: Outline::Inscribed, seen: edges::support(&edges, &inscribed, w, h).seen }),
+        (Err(_), Ok(EdgeCircle::Faint(e))) => Ok(Located { disk: e.disk, outline: Outline::Faint, seen: e.seen }),
         (Err(e), _) => Err(e),
     }
 }
@@ -87,22 +96,27 @@ pub fn locate(p: &Painting, name: &str) -> Result<Located> {
 /// Otsu's threshold, that connect to the border), or, where that is not round (a sphere on
 /// a table with its shadow, on a textured background), to the arc of the outline the edges
 /// show ([`edges`]); a square picture without a clear outline is taken as a MatCap, whose
-/// disk is inscribed in it. Errors, one line each: the picture is all background, no round
-/// shape, two shapes.
+/// disk is inscribed in it; another takes the best circle on a faint arc ([`MIN_FAINT`]).
+/// Errors, one line each: the picture is all background, no round shape, two shapes.
 pub fn find_disk(p: &Painting, name: &str) -> Result<(Disk, Outline)> {
     locate(p, name).map(|l| (l.disk, l.outline))
 }
 
-/// The circle the picture's edges support best, if it shows at least [`MIN_SEEN`] of its
-/// outline inside the frame. Error: two disjoint circles both that well supported.
-fn edge_circle(edges: &[edges::Edge], w: usize, h: usize, name: &str) -> Result<Option<edges::Support>> {
+/// The circles the picture's edges support: the best one that shows at least [`MIN_SEEN`]
+/// of its outline inside the frame (beyond chance), and the best that shows at least
+/// [`MIN_FAINT`], when no circle shows more. Error: two disjoint circles both well supported.
+fn edge_circle(edges: &[edges::Edge], coarse: &[edges::Edge], w: usize, h: usize, name: &str) -> Result<EdgeCircle> {
     // A sphere may be cut by the frame: up to the longer side across.
     let (r_min, r_max) = (min_radius(w, h), w.max(h) as f64 / 2.0);
-    let good: Vec<edges::Support> = edges::circles(edges, w, h, r_min, r_max)
+    let round: Vec<(f64, edges::Support)> = edges::circles(edges, coarse, w, h, r_min, r_max)
         .into_iter()
-        .filter(|s| edges::seen_beyond_chance(edges, s, w, h) >= MIN_SEEN && edges::turning(edges, &s.disk) > STRAIGHT_TURNING)
+        .filter(|s| edges::turning(edges, &s.disk) > STRAIGHT_TURNING)
+        .map(|s| (edges::seen_beyond_chance(edges, &s, w, h), s))
         .collect();
-    let Some(best) = good.first().copied() else { return Ok(None) };
+    let good: Vec<edges::Support> = round.iter().filter(|c| c.0 >= MIN_SEEN).map(|c| c.1).collect();
+    let Some(best) = good.first().copied() else {
+        return Ok(round.iter().find(|c| c.0 >= MIN_FAINT).map_or(EdgeCircle::None, |c| EdgeCircle::Faint(c.1)));
+    };
     let apart = |a: &Disk, b: &Disk| ((a.cx - b.cx).powi(2) + (a.cy - b.cy).powi(2)).sqrt() >= 0.95 * (a.r + b.r);
     // A second sphere shows most of its own outline (not just a short arc inside the frame,
     // as a circle through the horizon or the frame's corner can) and about as much of it.
@@ -113,7 +127,16 @@ fn edge_circle(edges: &[edges::Edge], w: usize, h: usize, name: &str) -> Result<
             best.disk.r, other.disk.r
         )));
     }
-    Ok(Some(best))
+    Ok(EdgeCircle::Clear(best))
+}
+
+/// What the edges say about the sphere's outline ([`edge_circle`]).
+enum EdgeCircle {
+    /// A circle showing at least [`MIN_SEEN`] of its outline.
+    Clear(edges::Support),
+    /// The best circle, showing less than that but at least [`MIN_FAINT`].
+    Faint(edges::Support),
+    None,
 }
 
 /// The picture's channels as square roots of linear values (roughly perceptual, as
