@@ -357,24 +357,40 @@ impl Default for Ask {
     }
 }
 
-/// How a picture was read, physical or stylized, and why ([`style::tones`]).
+/// How a picture was read, physical or stylized, and why ([`style::tones`],
+/// [`style::profile`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stylization {
     pub asked: Style,
     pub stylized: bool,
+    /// The disk's flat tones, pixel by pixel.
     pub tones: style::Tones,
+    /// Where those are not a drawing's (a painted one's strokes and grain scatter its tones),
+    /// its shading profile under the light its tone edges set, and that light, when the
+    /// profile is a drawing's ([`style::Profile::drawn`]): they decided `auto`.
+    pub painted: Option<(style::Profile, LightEstimate)>,
 }
 
 impl Stylization {
-    /// How `picture` is read when `asked` ([`style::tones`] decides `auto`).
+    /// How `picture` is read when `asked`: `auto` is stylized when its pixels are a few flat
+    /// tones ([`style::tones`]), or else, in a painted picture ([`style::grain`]), its shading
+    /// profile is a drawing's ([`style::profile`]).
     pub fn decide(asked: Style, picture: &Picture) -> Stylization {
         let tones = style::tones(&picture.painting, &picture.disk);
-        let stylized = match asked {
-            Style::Physical => false,
-            Style::Stylized => true,
-            Style::Auto => tones.stylized(),
+        let painted = || {
+            let light = estimate_tone_light(&picture.painting, &picture.disk).ok()?;
+            let profile = style::profile(&picture.painting, &picture.disk, light.direction);
+            profile.drawn().then_some((profile, light))
         };
-        Stylization { asked, stylized, tones }
+        let (stylized, painted) = match asked {
+            Style::Physical => (false, None),
+            Style::Stylized => (true, None),
+            Style::Auto if tones.stylized() => (true, None),
+            // A clean picture's tones are read pixel by pixel: it has no paint to see through.
+            Style::Auto if style::grain(&picture.painting, &picture.disk) <= style::CLEAN_GRAIN => (false, None),
+            Style::Auto => painted().map_or((false, None), |p| (true, Some(p))),
+        };
+        Stylization { asked, stylized, tones, painted }
     }
 
     /// The fit settings from the user's `base` for `picture` lit from `light`: the lit-sphere
@@ -398,16 +414,17 @@ impl Stylization {
 
     /// The key light of `picture`: from its shading, or from its tone edges when stylized.
     pub fn estimate_light(&self, picture: &Picture) -> Result<LightEstimate> {
-        match self.stylized {
-            false => picture.estimate_light(),
-            true => estimate_tone_light(&picture.painting, &picture.disk),
+        match (self.stylized, self.painted) {
+            (false, _) => picture.estimate_light(),
+            (true, Some((_, light))) => Ok(light),
+            (true, None) => estimate_tone_light(&picture.painting, &picture.disk),
         }
     }
 
     /// The note that says how the picture was read.
     pub fn note(&self, picture: &str) -> Note {
-        let t = self.tones;
-        Note::Style { picture: picture.to_string(), stylized: self.stylized, decided: self.asked == Style::Auto, tones: t.count, share: t.share }
+        let (t, painted) = self.painted.map_or((self.tones, false), |(p, _)| (p.tones, true));
+        Note::Style { picture: picture.to_string(), stylized: self.stylized, decided: self.asked == Style::Auto, tones: t.count, share: t.share, painted }
     }
 }
 

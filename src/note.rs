@@ -68,8 +68,9 @@ pub enum Note {
     /// does not reach, and a light moved to the front shows more than the picture does.
     LightBehind { picture: String },
     /// A lit sphere read physically or as drawn (`decided`: by `--style auto`, from its
-    /// `tones` flat tones holding `share` of the disk).
-    Style { picture: String, stylized: bool, decided: bool, tones: usize, share: f64 },
+    /// `tones` flat tones holding `share` of the disk; `painted`: those of its shading
+    /// profile along the light, where strokes and grain scatter its pixels').
+    Style { picture: String, stylized: bool, decided: bool, tones: usize, share: f64, painted: bool },
     /// A material fitted with coupled channels (and the identity mapping when `identity`):
     /// fitted channel by channel with the mapping of least error, a share `before` of a
     /// sphere's lit pixels took colours the paintings do not have under a moved light; now
@@ -251,9 +252,15 @@ impl fmt::Display for Note {
                 "{}: lit from behind the sphere: the light reaches only the crescent turned to it, and the rest, lit by its surroundings, sets how light the material stays where no light reaches; lit from the front, the material shows more than the picture does",
                 one_line(picture)
             ),
-            Note::Style { picture, stylized: true, tones, share, .. } => write!(
+            Note::Style { picture, stylized: true, tones, share, painted: false, .. } => write!(
                 f,
                 "{}: read as drawn (stylized): {tones} flat tones hold {:.0}% of the disk; its tone edges set the light, and the fit keeps them hard",
+                one_line(picture),
+                100.0 * share
+            ),
+            Note::Style { picture, stylized: true, tones, share, painted: true, .. } => write!(
+                f,
+                "{}: read as drawn (stylized): {tones} flat tones, painted (strokes and grain inside them), hold {:.0}% of the disk's shading along the light; its tone edges set the light, and the fit keeps them hard",
                 one_line(picture),
                 100.0 * share
             ),
@@ -305,14 +312,15 @@ mod tests {
             Note::Disk { picture: "s.jpg".into(), cx: 100.0, cy: 90.5, r: 60.0, seen: 0.78, from: DiskFrom::Given },
             Note::LightUndecided { picture: "m.exr".into(), spread_deg: 40.0 },
             Note::LightBehind { picture: "m.exr".into() },
-            Note::Style { picture: "toon.png".into(), stylized: true, decided: true, tones: 3, share: 0.97 },
-            Note::Style { picture: "clay.png".into(), stylized: false, decided: false, tones: 1, share: 0.2 },
+            Note::Style { picture: "toon.png".into(), stylized: true, decided: true, tones: 3, share: 0.97, painted: false },
+            Note::Style { picture: "toon.jpg".into(), stylized: true, decided: true, tones: 2, share: 0.96, painted: true },
+            Note::Style { picture: "clay.png".into(), stylized: false, decided: false, tones: 1, share: 0.2, painted: false },
             Note::KeptColours { identity: true, before: 0.2, after: 0.0 },
         ];
         for note in &notes {
             let line = note.to_string();
             assert!(!line.contains('\n') && !line.contains("--"), "{line}");
         }
-        assert_eq!(notes.iter().filter(|n| n.remedy().is_some()).count(), 15);
+        assert_eq!(notes.iter().filter(|n| n.remedy().is_some()).count(), 16);
     }
 }

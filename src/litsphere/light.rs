@@ -382,3 +382,30 @@ fn cap(centre: DVec3, angle: f64, n: usize, min_z: f64) -> Vec<DVec3> {
         .filter(|d| d.z >= min_z)
         .collect()
 }
+
+/// The shading profile of `p`'s sphere under the light `l`: for each band of $n \cdot l$
+/// ([`TONE_BANDS`]) up to [`PROFILE_TOP`] with 8 pixels or more, its middle, the median
+/// luminance of its pixels (sRGB, 0 to 1) and their number.
+pub fn shading_profile(p: &Painting, disk: &Disk, l: DVec3) -> Vec<(f64, f64, usize)> {
+    let Ok((normals, linear)) = disk_samples(p, disk, 16000) else { return Vec::new() };
+    let mut bands: Vec<Vec<f64>> = vec![Vec::new(); TONE_BANDS];
+    for (n, &v) in normals.iter().zip(&linear) {
+        let c = n.dot(l);
+        if c <= PROFILE_TOP {
+            bands[tone_band(c)].push(f64::from(crate::images::linear_to_srgb(v as f32)));
+        }
+    }
+    bands
+        .iter_mut()
+        .enumerate()
+        .filter(|(_, b)| b.len() >= 8)
+        .map(|(k, b)| {
+            b.sort_by(f64::total_cmp);
+            ((k as f64 + 0.5) / TONE_BANDS as f64 * 2.0 - 1.0, b[b.len() / 2], b.len())
+        })
+        .collect()
+}
+
+/// Largest $n \cdot l$ of [`shading_profile`]: a highlight drawn about the light lies above,
+/// and would take the bands there whole.
+const PROFILE_TOP: f64 = 0.9;
