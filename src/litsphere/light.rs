@@ -384,9 +384,9 @@ fn cap(centre: DVec3, angle: f64, n: usize, min_z: f64) -> Vec<DVec3> {
 }
 
 /// The shading profile of `p`'s sphere under the light `l`: for each band of $n \cdot l$
-/// ([`TONE_BANDS`]) up to [`PROFILE_TOP`] with 8 pixels or more, its middle, the median
-/// luminance of its pixels (sRGB, 0 to 1) and their number.
-pub fn shading_profile(p: &Painting, disk: &Disk, l: DVec3) -> Vec<(f64, f64, usize)> {
+/// ([`TONE_BANDS`]) up to [`PROFILE_TOP`] with 8 pixels or more, from the farthest from
+/// the light, the median luminance of its pixels (sRGB, 0 to 1) and their number.
+pub fn shading_profile(p: &Painting, disk: &Disk, l: DVec3) -> Vec<(f64, usize)> {
     let Ok((normals, linear)) = disk_samples(p, disk, 16000) else { return Vec::new() };
     let mut bands: Vec<Vec<f64>> = vec![Vec::new(); TONE_BANDS];
     for (n, &v) in normals.iter().zip(&linear) {
@@ -397,11 +397,10 @@ pub fn shading_profile(p: &Painting, disk: &Disk, l: DVec3) -> Vec<(f64, f64, us
     }
     bands
         .iter_mut()
-        .enumerate()
-        .filter(|(_, b)| b.len() >= 8)
-        .map(|(k, b)| {
+        .filter(|b| b.len() >= 8)
+        .map(|b| {
             b.sort_by(f64::total_cmp);
-            ((k as f64 + 0.5) / TONE_BANDS as f64 * 2.0 - 1.0, b[b.len() / 2], b.len())
+            (b[b.len() / 2], b.len())
         })
         .collect()
 }

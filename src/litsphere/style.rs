@@ -153,28 +153,28 @@ pub fn grain(p: &Painting, disk: &Disk) -> f64 {
 pub fn profile(p: &Painting, disk: &Disk, l: glam::DVec3) -> Profile {
     let bands = super::light::shading_profile(p, disk, l);
     let mut histogram = [0usize; 256];
-    for &(_, y, n) in &bands {
+    for &(y, n) in &bands {
         histogram[code(y as f32)] += n;
     }
-    let (lo, hi) = bands.iter().fold((f64::MAX, f64::MIN), |(lo, hi), b| (lo.min(b.1), hi.max(b.1)));
-    // The median of the bands holding the first quarter of the pixels, from one end.
-    let quarter = |from_light: bool| {
-        let total: usize = bands.iter().map(|b| b.2).sum();
-        let mut held = 0;
-        let mut ys: Vec<f64> = Vec::new();
-        let ordered: Box<dyn Iterator<Item = &(f64, f64, usize)>> = if from_light { Box::new(bands.iter().rev()) } else { Box::new(bands.iter()) };
-        for b in ordered {
-            if 4 * held >= total {
-                break;
-            }
-            held += b.2;
-            ys.push(b.1);
-        }
-        ys.sort_by(f64::total_cmp);
-        ys.get(ys.len() / 2).copied().unwrap_or(0.0)
-    };
-    let rise = if hi > lo { (quarter(true) - quarter(false)) / (hi - lo) } else { 0.0 };
+    let (lo, hi) = bands.iter().fold((f64::MAX, f64::MIN), |(lo, hi), b| (lo.min(b.0), hi.max(b.0)));
+    let total: usize = bands.iter().map(|b| b.1).sum();
+    let rise = if hi > lo { (quarter_median(bands.iter().rev(), total) - quarter_median(bands.iter(), total)) / (hi - lo) } else { 0.0 };
     Profile { tones: tones_of(&histogram), rise }
+}
+
+/// The median value of the first `bands` (value, pixels) that hold a quarter of `total` pixels.
+fn quarter_median<'a>(bands: impl Iterator<Item = &'a (f64, usize)>, total: usize) -> f64 {
+    let mut held = 0;
+    let mut ys: Vec<f64> = bands
+        .take_while(|b| {
+            let before = held;
+            held += b.1;
+            4 * before < total
+        })
+        .map(|b| b.0)
+        .collect();
+    ys.sort_by(f64::total_cmp);
+    ys.get(ys.len() / 2).copied().unwrap_or(0.0)
 }
 
 /// The flat tones of a histogram of sRGB codes: its peaks, taken greedily, highest first,
