@@ -94,7 +94,7 @@ fn circles_of_painted_exemplars() {
 /// Toon spheres painted by MyPaint whose dark side merges with the table and its shadow
 /// (tools/mypaint/make_exemplars.sh, seeds 1 and 2): no circle shows half of its outline,
 /// and each loads from the faint arc of its lit side, within 3% of its radius, said to be
-/// faint in its note (once refused: "not round", "two shapes").
+/// faint in its note.
 #[test]
 fn a_faint_outline_loads_and_says_so() {
     let truths = truths_in(FAINT);
@@ -242,8 +242,7 @@ fn matcap_lights_do_not_pile_up() {
 /// tests/data/exemplars-faint, whose strokes and grain scatter each tone far beyond a
 /// drawing's (pixel by pixel, none is a few flat tones), are read as drawn from their shading
 /// profile along the light; the ten Lambert spheres of tests/data/exemplars are read as
-/// shading. (Seeds 3–4, held out: 18 of 30 toon and 0 of 30 Lambert read as drawn;
-/// BENCHMARKS.md, "Painted toon".)
+/// shading (BENCHMARKS.md, "Painted toon").
 #[test]
 fn painted_toon_is_read_as_drawn_and_painted_shading_is_not() {
     for (dir, drawn) in [(FAINT, true), (EXEMPLARS, false)] {
