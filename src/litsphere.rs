@@ -541,5 +541,11 @@ mod tests {
             }
         }
         assert!(find_disk(&square, "s.png").unwrap_err().to_string().contains("no disk"));
+        // A gradient splits at its middle tone into two large pieces; neither is a sphere.
+        for (w, h) in [(320, 200), (200, 320)] {
+            let ramp = (0..w * h).map(|k| [((k % w) as f32 / w as f32).powi(2); 3]).collect();
+            let e = find_disk(&Painting::opaque(w, h, ramp).unwrap(), "g.png").unwrap_err().to_string();
+            assert!(e.contains("no disk") && !e.contains("two shapes"), "{w}x{h}: {e}");
+        }
     }
 }

@@ -180,13 +180,9 @@ fn outline_circle(mask: &[bool], boundary: Boundary, w: usize, h: usize, name: &
     if area < (w * h / 400).max(64) {
         return Err(Error::input(format!("{name}: no disk found (the largest shape is {area} pixels)")));
     }
-    if let Some(&(_, other)) = components.iter().filter(|c| c.0 != largest).max_by_key(|c| c.1) {
-        if other * 5 > area {
-            return Err(Error::input(format!(
-                "{name}: two shapes ({area} and {other} pixels): give a picture of one sphere"
-            )));
-        }
-    }
+    // A second shape of comparable size makes the picture ambiguous only when the largest is
+    // a sphere: a gradient or a lit wall splits into large pieces none of which is round.
+    let rival = components.iter().filter(|c| c.0 != largest).map(|c| c.1).max().filter(|&other| other * 5 > area);
     let inside = |i: isize, j: isize| i >= 0 && j >= 0 && (i as usize) < w && (j as usize) < h && labels[j as usize * w + i as usize] == largest;
     let mut edge = Vec::new();
     for j in 0..h as isize {
@@ -216,11 +212,15 @@ fn outline_circle(mask: &[bool], boundary: Boundary, w: usize, h: usize, name: &
         .ok_or_else(|| Error::input(format!("{name}: no disk found (the shape's outline is not a circle)")))?;
     // Round: the shape fills its circle.
     let circle_area = std::f64::consts::PI * disk.r * disk.r;
+    let round = (0.8..=1.1).contains(&(area as f64 / circle_area)) && disk.r >= 4.0;
+    if let Some(other) = rival.filter(|_| round) {
+        return Err(Error::input(format!("{name}: two shapes ({area} and {other} pixels): give a picture of one sphere")));
+    }
     // An alpha says where the sphere is, whatever its size; a colour key may find a highlight.
     if boundary == Boundary::Key && disk.r < min_radius(w, h) {
         return Err(Error::input(format!("{name}: no disk found (the round shape, {:.0} pixels across, is too small for a sphere)", 2.0 * disk.r)));
     }
-    if !(0.8..=1.1).contains(&(area as f64 / circle_area)) || disk.r < 4.0 {
+    if !round {
         return Err(Error::input(format!(
             "{name}: no disk found (the shape is not round: it fills {:.0}% of its circle)",
             100.0 * area as f64 / circle_area
