@@ -8,9 +8,11 @@
 //! ```text
 //! cargo run --release --example disk_pictures -- OUT FIRST_SEED LAST_SEED [small]
 //! ```
-//! writes OUT/*.jpg and OUT/truth.csv (name, cx, cy, r in pixels, centres at +0.5), then
-//! prints each picture's error (the centre's distance and the radius's, over the radius)
-//! and the worst per style, background and layout. `small` makes pictures of about 200×160
+//! writes OUT/*.jpg and OUT/truth.csv (name, cx, cy, r in pixels, centres at +0.5, and
+//! front: the y from which something in front hides the sphere, empty when nothing does),
+//! then prints each picture's error (the centre's distance and the radius's, over the
+//! radius) and the worst per style, background and layout, and how many of the disk's
+//! pixels showing the thing in front are still samples and how many of the sphere's are not. `small` makes pictures of about 200×160
 //! (the ones kept in tests/data/disks).
 //!
 //! ```text
@@ -22,8 +24,8 @@
 use std::f64::consts::PI;
 use std::path::Path;
 
-use brdfpaint::litsphere::{Picture, MAX_SIDE};
-use glam::DVec3;
+use brdfpaint::litsphere::{Disk, Picture, MAX_SIDE};
+use glam::{DVec2, DVec3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -213,18 +215,69 @@ fn picture(seed: u64, style: &str, bg: &str, kind: &str, small: bool) -> (image:
 }
 
 /// How far the circle `Picture::read` finds is from the truth (the larger of the centre's
-/// distance and the radius's difference, over the radius; infinite if refused), printed.
-fn judge(path: &Path, name: &str, cx: f64, cy: f64, r: f64) -> f64 {
+/// distance and the radius's difference, over the radius; infinite if refused), printed; and
+/// how the disk's pixels were told from what stands in front of the sphere, whose top is at
+/// `front` (none: nothing in front).
+fn judge(path: &Path, name: &str, cx: f64, cy: f64, r: f64, front: Option<f64>) -> (f64, Front) {
     match Picture::read(path, MAX_SIDE) {
         Ok(p) => {
             let d = p.disk;
             let (dc, dr) = (((d.cx - cx).powi(2) + (d.cy - cy).powi(2)).sqrt(), (d.r - r).abs());
-            println!("{name}: truth ({cx:.1}, {cy:.1}) r {r:.1}; found ({:.1}, {:.1}) r {:.1} from {:.0}% ({:?}): off {:.2}% / {:.2}% of r", d.cx, d.cy, d.r, 100.0 * p.seen, p.outline, 100.0 * dc / r, 100.0 * dr / r);
-            dc.max(dr) / r
+            let f = Front::of(&p, Disk { cx, cy, r }, front);
+            println!("{name}: truth ({cx:.1}, {cy:.1}) r {r:.1}; found ({:.1}, {:.1}) r {:.1} from {:.0}% ({:?}): off {:.2}% / {:.2}% of r{}", d.cx, d.cy, d.r, 100.0 * p.seen, p.outline, 100.0 * dc / r, 100.0 * dr / r, f.describe(front));
+            (dc.max(dr) / r, f)
         }
         Err(e) => {
             println!("{name}: truth ({cx:.1}, {cy:.1}) r {r:.1}; REFUSED: {e}");
-            f64::INFINITY
+            (f64::INFINITY, Front::default())
+        }
+    }
+}
+
+/// Pixels of the true disk (within 0.98 of its radius, as a fit samples it) by what they
+/// show and whether the picture's reading left them out as something in front.
+#[derive(Clone, Copy, Debug, Default)]
+struct Front {
+    /// Pixels of the thing in front: all, and those still samples.
+    thing: usize,
+    thing_kept: usize,
+    /// Pixels of the sphere: all, and those left out.
+    sphere: usize,
+    sphere_lost: usize,
+    /// Whether something was found in front.
+    found: bool,
+}
+
+impl Front {
+    fn of(p: &Picture, truth: Disk, front: Option<f64>) -> Front {
+        let mut f = Front { found: p.hidden.is_some(), ..Front::default() };
+        let s = p.scale;
+        for j in 0..(p.painting.height as f64 * s) as usize {
+            for i in 0..(p.painting.width as f64 * s) as usize {
+                if truth.normal(i, j, 0.98).is_none() {
+                    continue;
+                }
+                let at = DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
+                let left_out = p.hidden.is_some_and(|h| h.line.hides(at / s));
+                if front.is_some_and(|y| at.y > y) {
+                    f.thing += 1;
+                    f.thing_kept += usize::from(!left_out);
+                } else {
+                    f.sphere += 1;
+                    f.sphere_lost += usize::from(left_out);
+                }
+            }
+        }
+        f
+    }
+
+    fn describe(&self, front: Option<f64>) -> String {
+        match (front, self.found) {
+            (None, false) => String::new(),
+            _ => format!(
+                "; in front: {} of {} pixels kept, sphere: {} of {} lost",
+                self.thing_kept, self.thing, self.sphere_lost, self.sphere
+            ),
         }
     }
 }
@@ -232,6 +285,12 @@ fn judge(path: &Path, name: &str, cx: f64, cy: f64, r: f64) -> f64 {
 /// The worst error per group and the counts within 2%, off by more than 5%, and refused.
 struct Tally {
     worst: std::collections::BTreeMap<String, f64>,
+    /// Over the pictures with something in front, and over those without.
+    fronted: Front,
+    fronted_pictures: usize,
+    fronted_found: usize,
+    clear: Front,
+    clear_found: usize,
     total: usize,
     within: usize,
     wrong: usize,
@@ -240,10 +299,19 @@ struct Tally {
 
 impl Tally {
     fn new() -> Tally {
-        Tally { worst: Default::default(), total: 0, within: 0, wrong: 0, refused: 0 }
+        Tally { worst: Default::default(), fronted: Front::default(), fronted_pictures: 0, fronted_found: 0, clear: Front::default(), clear_found: 0, total: 0, within: 0, wrong: 0, refused: 0 }
     }
 
-    fn add(&mut self, err: f64, groups: &[String]) {
+    fn add(&mut self, err: f64, front: (Option<f64>, Front), groups: &[String]) {
+        let (sum, found) = if front.0.is_some() {
+            self.fronted_pictures += 1;
+            (&mut self.fronted, &mut self.fronted_found)
+        } else {
+            (&mut self.clear, &mut self.clear_found)
+        };
+        let f = front.1;
+        *found += usize::from(f.found);
+        (sum.thing, sum.thing_kept, sum.sphere, sum.sphere_lost) = (sum.thing + f.thing, sum.thing_kept + f.thing_kept, sum.sphere + f.sphere, sum.sphere_lost + f.sphere_lost);
         self.total += 1;
         self.within += (err <= 0.02) as usize;
         self.wrong += (err > 0.05 && err.is_finite()) as usize;
@@ -262,6 +330,13 @@ impl Tally {
             "{set}: {} of {} pictures with centre and radius within 2% of the radius, {} off by more than 5%, {} refused",
             self.within, self.total, self.wrong, self.refused
         );
+        let share = |a: usize, b: usize| 100.0 * a as f64 / b.max(1) as f64;
+        let (f, c) = (&self.fronted, &self.clear);
+        println!(
+            "{set}: something in front in {} pictures, found in {}: {:.1}% of its pixels in the disk kept as samples, {:.1}% of the sphere's left out; nothing in front in {}, something found in {} ({:.1}% of their spheres' pixels left out)",
+            self.fronted_pictures, self.fronted_found, share(f.thing_kept, f.thing), share(f.sphere_lost, f.sphere),
+            self.total - self.fronted_pictures, self.clear_found, share(c.sphere_lost, c.sphere)
+        );
     }
 }
 
@@ -272,12 +347,17 @@ fn judge_folder(dir: &Path) -> Result<(), Box<dyn std::error::Error>> {
     let mut tally = Tally::new();
     for line in csv.lines().skip(1).filter(|l| !l.trim().is_empty()) {
         let f: Vec<&str> = line.split(',').collect();
-        let [name, cx, cy, r] = f[..] else { return Err(format!("truth.csv: not name,cx,cy,r: {line}").into()) };
-        let err = judge(&dir.join(name), name, cx.parse()?, cy.parse()?, r.parse()?);
+        let (name, cx, cy, r, front) = match f[..] {
+            [name, cx, cy, r] => (name, cx, cy, r, ""),
+            [name, cx, cy, r, front] => (name, cx, cy, r, front),
+            _ => return Err(format!("truth.csv: not name,cx,cy,r[,front]: {line}").into()),
+        };
+        let front = (!front.trim().is_empty()).then(|| front.trim().parse::<f64>()).transpose()?;
+        let (err, found) = judge(&dir.join(name), name, cx.parse()?, cy.parse()?, r.parse()?, front);
         let stem = name.trim_end_matches(".jpg");
         let seed = |w: &str| w.strip_prefix('s').is_some_and(|n| n.parse::<u64>().is_ok());
         let groups: Vec<String> = stem.split('-').filter(|w| !seed(w)).map(|w| format!("group {w}")).collect();
-        tally.add(err, &groups);
+        tally.add(err, (front, found), &groups);
     }
     tally.print(&dir.display().to_string());
     Ok(())
@@ -296,7 +376,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let small = args.get(3).is_some_and(|s| s == "small");
     std::fs::create_dir_all(&out)?;
-    let mut truth = String::from("name,cx,cy,r\n");
+    let mut truth = String::from("name,cx,cy,r,front\n");
     let mut tally = Tally::new();
     for seed in first..=last {
         for (s, style) in STYLES.iter().enumerate() {
@@ -310,9 +390,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     let mut bytes = Vec::new();
                     image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, quality).encode_image(&img)?;
                     std::fs::write(&path, bytes)?;
-                    truth.push_str(&format!("{name},{:.3},{:.3},{:.3}\n", l.cx, l.cy, l.r));
-                    let err = judge(&path, &name, l.cx, l.cy, l.r);
-                    tally.add(err, &[format!("style {style}"), format!("background {bg}"), format!("layout {kind}")]);
+                    let front = l.hidden_from.map_or(String::new(), |y| format!("{y:.3}"));
+                    truth.push_str(&format!("{name},{:.3},{:.3},{:.3},{front}\n", l.cx, l.cy, l.r));
+                    let (err, found) = judge(&path, &name, l.cx, l.cy, l.r, l.hidden_from);
+                    tally.add(err, (l.hidden_from, found), &[format!("style {style}"), format!("background {bg}"), format!("layout {kind}")]);
                 }
             }
         }

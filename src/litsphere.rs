@@ -46,6 +46,7 @@ pub mod colours;
 pub mod edges;
 mod light;
 mod locate;
+pub mod occluder;
 mod segment;
 pub mod style;
 pub mod texture;
@@ -225,6 +226,17 @@ pub struct Picture {
     pub seen: f64,
     /// The file's pixels to one of `painting` (the factor it was shrunk by).
     pub scale: f64,
+    /// The disk's pixels left out as something in front of the sphere ([`occluder`]).
+    pub hidden: Option<Hidden>,
+}
+
+/// Pixels of a disk hidden by something in front of the sphere, and their share of the disk.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hidden {
+    /// The top edge of the thing in front.
+    pub line: occluder::InFront,
+    pub pixels: usize,
+    pub share: f64,
 }
 
 impl Picture {
@@ -264,16 +276,32 @@ impl Picture {
 
     /// The picture of an already shrunk painting with its disk: the rest unpainted.
     fn found(name: String, mut painting: Painting, located: Located, scale: f64) -> Picture {
+        let in_front = locate::in_front(&painting, &located);
         let Located { disk, outline, seen } = located;
-        // Only the sphere is paint: the background (and the rim, which mixes with it) is not.
+        // Only the sphere is paint: the background (and the rim, which mixes with it) and
+        // what stands in front of it are not.
+        let (mut inside, mut hidden) = (0, 0);
         for j in 0..painting.height {
             for i in 0..painting.width {
+                let k = j * painting.width + i;
                 if disk.normal(i, j, 0.98).is_none() {
-                    painting.alpha[j * painting.width + i] = 0.0;
+                    painting.alpha[k] = 0.0;
+                    continue;
+                }
+                inside += 1;
+                if in_front.is_some_and(|f| f.hides(glam::DVec2::new(i as f64 + 0.5, j as f64 + 0.5))) {
+                    painting.alpha[k] = 0.0;
+                    hidden += 1;
                 }
             }
         }
-        Picture { name, painting, disk, outline, seen, scale }
+        let hidden = in_front.filter(|_| hidden > 0).map(|line| Hidden { line, pixels: hidden, share: hidden as f64 / inside.max(1) as f64 });
+        Picture { name, painting, disk, outline, seen, scale, hidden }
+    }
+
+    /// The note on what stands in front of the sphere, if anything does ([`occluder`]).
+    pub fn in_front_note(&self) -> Option<Note> {
+        self.hidden.map(|h| Note::InFront { picture: self.name.clone(), pixels: h.pixels, share: h.share })
     }
 
     /// The note that reports the disk ([`Located::note`]).
@@ -457,7 +485,7 @@ pub fn fit_in(path: &Path, ask: &Ask, opts: &Options, cache: Option<&Cache>) -> 
         ..opts.clone()
     };
     let scene = picture.scene(light);
-    let notes = [picture.disk_note(), stylization.note(&picture.name)];
+    let notes: Vec<Note> = [Some(picture.disk_note()), picture.in_front_note(), Some(stylization.note(&picture.name))].into_iter().flatten().collect();
     let Picture { name, painting, disk, outline, seen, .. } = picture;
     let mut sampler = SceneSampler::new()?;
     let geometry = sampler.geometry(&scene, painting.width, painting.height, Erosion::default())?;
@@ -521,6 +549,41 @@ mod tests {
             assert!((found.r - d.r).abs() < 0.1, "{found:?} vs {d:?}");
             assert!((found.cx - d.cx).abs() < 0.1 && (found.cy - d.cy).abs() < 0.1, "{found:?} vs {d:?}");
         }
+    }
+
+    /// A two-tone sphere lit from the side, whose terminator band is a straight chord, on a
+    /// wall above a table whose edge passes behind it; and with a box in front of it.
+    fn side_lit_toon(box_from: Option<f64>) -> Painting {
+        let (w, h) = (300, 240);
+        let d = Disk { cx: 150.0, cy: 110.0, r: 80.0 };
+        let px = (0..w * h)
+            .map(|k| {
+                let (i, j) = (k % w, k / w);
+                let (x, y) = (i as f64 + 0.5, j as f64 + 0.5);
+                if box_from.is_some_and(|b| y > b) {
+                    return [0.1, 0.15, 0.3];
+                }
+                match d.normal(i, j, 1.0) {
+                    // n·l with the light along +x: the band's edge is the chord x = 0.3 r.
+                    Some(n) => if n.x > 0.3 { [0.8, 0.3, 0.2] } else { [0.25, 0.08, 0.05] },
+                    None if y < 150.0 => [0.7, 0.7, 0.65],
+                    None => [0.4, 0.3, 0.2],
+                }
+            })
+            .collect();
+        Painting::opaque(w, h, px).unwrap()
+    }
+
+    #[test]
+    fn a_box_in_front_is_left_out_and_a_straight_terminator_is_not() {
+        let alone = Picture::new("toon.png".into(), &side_lit_toon(None), MAX_SIDE).unwrap();
+        assert!(alone.hidden.is_none(), "{:?}", alone.hidden);
+        let hidden = Picture::new("boxed.png".into(), &side_lit_toon(Some(160.0)), MAX_SIDE).unwrap();
+        let h = hidden.hidden.expect("the box is found");
+        // The box's top, y = 160: the line n·p = offset with n pointing down, level.
+        let y = (h.line.offset - 150.0 * h.line.normal.x) / h.line.normal.y;
+        assert!(h.line.normal.y > 0.9999 && (y - 160.0).abs() < 0.5, "{h:?}");
+        assert!(h.line.hides(glam::DVec2::new(150.0, 165.0)) && !h.line.hides(glam::DVec2::new(150.0, 150.0)), "{h:?}");
     }
 
     #[test]

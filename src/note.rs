@@ -60,6 +60,9 @@ pub enum Note {
     /// Where a lit sphere's disk is (pixels of the file: centre, radius), the share of its
     /// outline the picture shows there (`seen`, 0 to 1), and where it came `from`.
     Disk { picture: String, cx: f64, cy: f64, r: f64, seen: f64, from: DiskFrom },
+    /// Pixels of a lit sphere's disk beyond a straight edge across it that continues past the
+    /// outline: something in front of the sphere, left out (`share` of the disk, 0 to 1).
+    InFront { picture: String, pixels: usize, share: f64 },
     /// A lit sphere's light that the picture cannot decide: directions up to `spread_deg`
     /// from the one chosen explain its shading as well, and the plausible key light among
     /// them (upper front) was taken.
@@ -146,6 +149,7 @@ impl Note {
             | Note::FirstOfMany { .. }
             | Note::FacingAway { camera_given: true, .. }
             | Note::PhotoSamples { .. }
+            | Note::InFront { .. }
             | Note::Disk { from: DiskFrom::Given, .. } => None,
         }
     }
@@ -242,6 +246,12 @@ impl fmt::Display for Note {
                 one_line(picture),
                 100.0 * seen
             ),
+            Note::InFront { picture, pixels, share } => write!(
+                f,
+                "{}: {pixels} pixels of the disk ({:.0}%) lie beyond a straight edge that crosses it and runs on past its outline, something in front of the sphere: they are not samples",
+                one_line(picture),
+                100.0 * share
+            ),
             Note::LightUndecided { picture, spread_deg } => write!(
                 f,
                 "{}: the shading does not decide the light (lit by its surroundings: directions up to {spread_deg:.0}° apart explain it as well); took the plausible key light among them, the one nearest the upper front",
@@ -310,6 +320,7 @@ mod tests {
             Note::Disk { picture: "s.jpg".into(), cx: 100.0, cy: 90.5, r: 60.0, seen: 0.78, from: DiskFrom::Found },
             Note::Disk { picture: "s.jpg".into(), cx: 100.0, cy: 90.5, r: 60.0, seen: 0.42, from: DiskFrom::Faint },
             Note::Disk { picture: "s.jpg".into(), cx: 100.0, cy: 90.5, r: 60.0, seen: 0.78, from: DiskFrom::Given },
+            Note::InFront { picture: "s.jpg".into(), pixels: 1200, share: 0.09 },
             Note::LightUndecided { picture: "m.exr".into(), spread_deg: 40.0 },
             Note::LightBehind { picture: "m.exr".into() },
             Note::Style { picture: "toon.png".into(), stylized: true, decided: true, tones: 3, share: 0.97, painted: false },

@@ -5,6 +5,7 @@
 use glam::{DMat3, DVec3};
 
 use super::edges;
+use super::occluder::{self, InFront};
 use super::segment::{border_median, components, otsu, perceptual_distance};
 use super::{Disk, Located, Outline};
 use crate::error::{Error, Result};
@@ -100,6 +101,17 @@ pub fn locate(p: &Painting, name: &str) -> Result<Located> {
 /// Errors, one line each: the picture is all background, no round shape, two shapes.
 pub fn find_disk(p: &Painting, name: &str) -> Result<(Disk, Outline)> {
     locate(p, name).map(|l| (l.disk, l.outline))
+}
+
+/// What stands in front of the sphere `located` in `p` ([`occluder`]): nothing in a MatCap
+/// (a disk inscribed in its square, alone) or where an alpha channel says what the sphere is.
+pub(super) fn in_front(p: &Painting, located: &Located) -> Option<InFront> {
+    if matches!(located.outline, Outline::Inscribed | Outline::Alpha) {
+        return None;
+    }
+    let channels = perceptual_channels(p);
+    // At the coarse scale, where grain and bristle marks along the thing's top blur away.
+    occluder::find(&channels, &edges::coarse_points(&channels, p.width, p.height), &located.disk, p.width, p.height)
 }
 
 /// The circles the picture's edges support: the best one that shows at least [`MIN_SEEN`]

@@ -1,6 +1,7 @@
 #!/bin/sh
 # Paints sphere-on-table exemplars (paint_exemplar.py) with each brush, layout, style and
-# seed into OUT, then collects their circles into OUT/truth.csv, which
+# seed into OUT, then collects their circles (and, in the hidden layout, the y from which
+# something in front hides the sphere) into OUT/truth.csv, which
 # `cargo run --release --example disk_pictures -- --judge OUT` reads. Existing files are kept.
 #
 #   tools/mypaint/make_exemplars.sh OUT
@@ -22,10 +23,10 @@ for brush in $brushes; do
     done
 done | xargs -P "${JOBS:-2}" -L 1 /usr/bin/python3 "$here/paint_exemplar.py"
 {
-    echo "name,cx,cy,r"
+    echo "name,cx,cy,r,front"
     for t in "$out"/*.txt; do
         name=$(basename "$t" .txt).jpg
         set -- $(cat "$t")
-        echo "$name,$1,$2,$3"
+        echo "$name,$1,$2,$3,${4:-}"
     done
 } > "$out/truth.csv.part" && mv "$out/truth.csv.part" "$out/truth.csv"

@@ -51,7 +51,9 @@ def hue(rng, sat, val):
 
 
 def scene(rng, layout, style):
-    """The truth (sRGB, H x W x 3) and its circle (cx, cy, r)."""
+    """The truth (sRGB, H x W x 3), its circle (cx, cy, r), the y from which a box in front
+    hides the sphere (None outside the hidden layout) and the unit direction towards the
+    light (x right, y up, z towards the viewer)."""
     w, h = int(rng.integers(300, 381)), int(rng.integers(240, 301))
     r = rng.uniform(0.24, 0.34) * min(w, h)
     horizon = rng.uniform(0.42, 0.6) * h
@@ -100,7 +102,7 @@ def scene(rng, layout, style):
     if hidden is not None:
         box = hue(rng, 0.35, 0.5)
         out = np.where((y > hidden)[..., None], box * (1.0 - 0.2 * np.clip((y - hidden) / r, 0, 1))[..., None], out)
-    return srgb(out), (cx, cy, r)
+    return srgb(out), (cx, cy, r), hidden, light
 
 
 def main():
@@ -113,7 +115,7 @@ def main():
     a = ap.parse_args()
     key = f"{a.preset}-{a.layout}-{a.style}".encode()
     rng = np.random.default_rng([a.seed, zlib.crc32(key)])
-    truth, (cx, cy, r) = scene(rng, a.layout, a.style)
+    truth, (cx, cy, r), hidden, _ = scene(rng, a.layout, a.style)
     p = PRESETS[a.preset]
     mask = np.ones(truth.shape[:2], bool)
     painter = Painter(truth, mask, p, rng, set())
@@ -124,7 +126,9 @@ def main():
     quality = 70 + zlib.crc32(key + bytes([a.seed % 256])) % 21
     Image.fromarray(pixels).save(a.out, quality=int(quality))
     with open(os.path.splitext(a.out)[0] + ".txt", "w") as f:
-        f.write(f"{cx:.3f} {cy:.3f} {r:.3f}\n")
+        # The y from which something in front hides the sphere, in the hidden layout.
+        front = f" {hidden:.3f}" if hidden is not None else ""
+        f.write(f"{cx:.3f} {cy:.3f} {r:.3f}{front}\n")
 
 
 if __name__ == "__main__":
