@@ -559,7 +559,7 @@ mod tests {
         let px = (0..w * h)
             .map(|k| {
                 let (i, j) = (k % w, k / w);
-                let (x, y) = (i as f64 + 0.5, j as f64 + 0.5);
+                let y = j as f64 + 0.5;
                 if box_from.is_some_and(|b| y > b) {
                     return [0.1, 0.15, 0.3];
                 }
