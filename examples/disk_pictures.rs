@@ -12,8 +12,8 @@
 //! front: the y from which something in front hides the sphere, empty when nothing does),
 //! then prints each picture's error (the centre's distance and the radius's, over the
 //! radius) and the worst per style, background and layout, and how many of the disk's
-//! pixels showing the thing in front are still samples and how many of the sphere's are not. `small` makes pictures of about 200×160
-//! (the ones kept in tests/data/disks).
+//! pixels showing the thing in front are still samples and how many of the sphere's are
+//! not. `small` makes pictures of about 200×160 (the ones kept in tests/data/disks).
 //!
 //! ```text
 //! cargo run --release --example disk_pictures -- --judge DIR
