@@ -25,7 +25,8 @@ use std::f64::consts::PI;
 use std::path::Path;
 
 use brdfpaint::litsphere::{Disk, Picture, MAX_SIDE};
-use glam::{DVec2, DVec3};
+use brdfpaint::study::front::FrontPixels;
+use glam::DVec3;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -234,50 +235,24 @@ fn judge(path: &Path, name: &str, cx: f64, cy: f64, r: f64, front: Option<f64>) 
     }
 }
 
-/// Pixels of the true disk (within 0.98 of its radius, as a fit samples it) by what they
-/// show and whether the picture's reading left them out as something in front.
+/// How the disk's pixels were told from what stands in front of the sphere, and whether
+/// something was found in front.
 #[derive(Clone, Copy, Debug, Default)]
 struct Front {
-    /// Pixels of the thing in front: all, and those still samples.
-    thing: usize,
-    thing_kept: usize,
-    /// Pixels of the sphere: all, and those left out.
-    sphere: usize,
-    sphere_lost: usize,
-    /// Whether something was found in front.
+    pixels: FrontPixels,
     found: bool,
 }
 
 impl Front {
     fn of(p: &Picture, truth: Disk, front: Option<f64>) -> Front {
-        let mut f = Front { found: p.hidden.is_some(), ..Front::default() };
-        let s = p.scale;
-        for j in 0..(p.painting.height as f64 * s) as usize {
-            for i in 0..(p.painting.width as f64 * s) as usize {
-                if truth.normal(i, j, 0.98).is_none() {
-                    continue;
-                }
-                let at = DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
-                let left_out = p.hidden.is_some_and(|h| h.line.hides(at / s));
-                if front.is_some_and(|y| at.y > y) {
-                    f.thing += 1;
-                    f.thing_kept += usize::from(!left_out);
-                } else {
-                    f.sphere += 1;
-                    f.sphere_lost += usize::from(left_out);
-                }
-            }
-        }
-        f
+        Front { pixels: FrontPixels::of(p, &truth, front), found: p.hidden.is_some() }
     }
 
     fn describe(&self, front: Option<f64>) -> String {
+        let f = &self.pixels;
         match (front, self.found) {
             (None, false) => String::new(),
-            _ => format!(
-                "; in front: {} of {} pixels kept, sphere: {} of {} lost",
-                self.thing_kept, self.thing, self.sphere_lost, self.sphere
-            ),
+            _ => format!("; in front: {} of {} pixels kept, sphere: {} of {} lost", f.thing_kept, f.thing, f.sphere_lost, f.sphere),
         }
     }
 }
@@ -286,10 +261,10 @@ impl Front {
 struct Tally {
     worst: std::collections::BTreeMap<String, f64>,
     /// Over the pictures with something in front, and over those without.
-    fronted: Front,
+    fronted: FrontPixels,
     fronted_pictures: usize,
     fronted_found: usize,
-    clear: Front,
+    clear: FrontPixels,
     clear_found: usize,
     total: usize,
     within: usize,
@@ -299,7 +274,7 @@ struct Tally {
 
 impl Tally {
     fn new() -> Tally {
-        Tally { worst: Default::default(), fronted: Front::default(), fronted_pictures: 0, fronted_found: 0, clear: Front::default(), clear_found: 0, total: 0, within: 0, wrong: 0, refused: 0 }
+        Tally { worst: Default::default(), fronted: FrontPixels::default(), fronted_pictures: 0, fronted_found: 0, clear: FrontPixels::default(), clear_found: 0, total: 0, within: 0, wrong: 0, refused: 0 }
     }
 
     fn add(&mut self, err: f64, front: (Option<f64>, Front), groups: &[String]) {
@@ -309,9 +284,8 @@ impl Tally {
         } else {
             (&mut self.clear, &mut self.clear_found)
         };
-        let f = front.1;
-        *found += usize::from(f.found);
-        (sum.thing, sum.thing_kept, sum.sphere, sum.sphere_lost) = (sum.thing + f.thing, sum.thing_kept + f.thing_kept, sum.sphere + f.sphere, sum.sphere_lost + f.sphere_lost);
+        *found += usize::from(front.1.found);
+        *sum += front.1.pixels;
         self.total += 1;
         self.within += (err <= 0.02) as usize;
         self.wrong += (err > 0.05 && err.is_finite()) as usize;

@@ -255,14 +255,14 @@ impl Picture {
         let name = path.display().to_string();
         let max_side = max_side.max(MIN_SIDE);
         let (painting, f) = Painting::read_shrunk(path, max_side, |w, h| check_shape(&name, w, h, max_side))?;
-        let located = match given {
+        let (located, in_front) = match given {
             Some(d) => {
                 let f = f as f64;
                 given_disk(&painting, Disk { cx: d.cx / f, cy: d.cy / f, r: d.r / f }, d, &name)?
             }
-            None => locate(&painting, &name)?,
+            None => locate::locate_in_front(&painting, &name)?,
         };
-        Ok(Picture::found(name, painting, located, f as f64))
+        Ok(Picture::found(name, painting, located, in_front, f as f64))
     }
 
     /// [`Picture::read`] of a painting already in memory, named `name`.
@@ -270,13 +270,13 @@ impl Picture {
         let max_side = max_side.max(MIN_SIDE);
         check_shape(&name, original.width, original.height, max_side)?;
         let (painting, f) = shrink(original, max_side);
-        let located = locate(&painting, &name)?;
-        Ok(Picture::found(name, painting, located, f as f64))
+        let (located, in_front) = locate::locate_in_front(&painting, &name)?;
+        Ok(Picture::found(name, painting, located, in_front, f as f64))
     }
 
-    /// The picture of an already shrunk painting with its disk: the rest unpainted.
-    fn found(name: String, mut painting: Painting, located: Located, scale: f64) -> Picture {
-        let in_front = locate::in_front(&painting, &located);
+    /// The picture of an already shrunk painting with its disk: the rest, and what stands
+    /// `in_front` of the sphere, unpainted.
+    fn found(name: String, mut painting: Painting, located: Located, in_front: Option<occluder::InFront>, scale: f64) -> Picture {
         let Located { disk, outline, seen } = located;
         // Only the sphere is paint: the background (and the rim, which mixes with it) and
         // what stands in front of it are not.

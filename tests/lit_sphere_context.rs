@@ -15,7 +15,8 @@ use std::process::Command;
 
 use brdfpaint::brdf::Analytic;
 use brdfpaint::litsphere::{estimate_light, find_disk, Disk, Outline, Picture, Style, Stylization, MAX_SIDE};
-use glam::{DVec2, DVec3};
+use brdfpaint::study::front::FrontPixels;
+use glam::DVec3;
 
 const DISKS: &str = "tests/data/disks";
 const EXEMPLARS: &str = "tests/data/exemplars";
@@ -99,28 +100,6 @@ fn fronts_in(dir: &str) -> Vec<Option<f64>> {
     text.lines().skip(1).map(|line| line.split(',').nth(4).filter(|f| !f.trim().is_empty()).map(|f| f.trim().parse().unwrap())).collect()
 }
 
-/// Pixels of the true disk (as a fit samples it, within 0.98 of its radius) that show the
-/// thing in front and are still samples, and pixels of the sphere left out, of `picture`
-/// (read at its own size) whose thing in front starts at row `front`.
-fn front_pixels(picture: &Picture, truth: &Disk, front: Option<f64>) -> [usize; 4] {
-    let (mut thing, mut kept, mut sphere, mut lost) = (0, 0, 0, 0);
-    for j in 0..picture.painting.height {
-        for i in 0..picture.painting.width {
-            if truth.normal(i, j, 0.98).is_none() {
-                continue;
-            }
-            let p = DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
-            let left_out = picture.hidden.is_some_and(|h| h.line.hides(p));
-            if front.is_some_and(|y| p.y > y) {
-                (thing, kept) = (thing + 1, kept + usize::from(!left_out));
-            } else {
-                (sphere, lost) = (sphere + 1, lost + usize::from(left_out));
-            }
-        }
-    }
-    [thing, kept, sphere, lost]
-}
-
 /// A sphere partly hidden at the bottom by a box in front (MyPaint's brushes, seed 4, the
 /// five brushes, Lambert and toon; and `examples/disk_pictures`' seed 7): the box's pixels
 /// inside the disk are not samples, and the sphere's are. On the painted ten, at least 8
@@ -129,28 +108,30 @@ fn front_pixels(picture: &Picture, truth: &Disk, front: Option<f64>) -> [usize; 
 /// spheres of `tests/data/exemplars` and `tests/data/disks` that nothing hides.
 #[test]
 fn what_stands_in_front_of_the_sphere_is_not_sampled() {
-    let mut found = std::collections::BTreeMap::new();
+    // Per folder: boxes found, and the pixels over its pictures with something in front.
+    let mut found: std::collections::BTreeMap<&str, (usize, FrontPixels)> = Default::default();
     for dir in [HIDDEN, EXEMPLARS, DISKS] {
         let fronts = fronts_in(dir);
         for ((name, truth), front) in truths_in(dir).iter().zip(fronts) {
             let picture = Picture::read(&Path::new(dir).join(name), MAX_SIDE).unwrap_or_else(|e| panic!("{name}: {e}"));
-            assert_eq!(picture.scale, 1.0, "{name}");
-            let counts = front_pixels(&picture, truth, front);
-            eprintln!("{name}: front {front:?}, found {:?}: [box, box kept, sphere, sphere lost] {counts:?}", picture.hidden.map(|h| h.line));
+            let counts = FrontPixels::of(&picture, truth, front);
+            eprintln!("{name}: front {front:?}, found {:?}: {counts:?}", picture.hidden.map(|h| h.line));
             if front.is_none() {
                 assert!(picture.hidden.is_none(), "{name}: something found in front of a sphere nothing hides");
                 continue;
             }
-            let sum: &mut [usize; 5] = found.entry(dir).or_default();
-            sum[0] += usize::from(picture.hidden.is_some());
-            for k in 0..4 {
-                sum[k + 1] += counts[k];
-            }
+            let sum = found.entry(dir).or_default();
+            sum.0 += usize::from(picture.hidden.is_some());
+            sum.1 += counts;
         }
     }
-    let [boxes, thing, kept, sphere, lost] = found[HIDDEN];
-    assert!(boxes >= 8 && kept as f64 <= 0.2 * thing as f64 && lost as f64 <= 0.03 * sphere as f64, "{boxes} of 10 found; box pixels kept {kept} of {thing}; sphere pixels lost {lost} of {sphere}");
-    let [boxes, ..] = found[DISKS];
+    let (boxes, f) = found[HIDDEN];
+    assert!(
+        boxes >= 8 && f.thing_kept as f64 <= 0.2 * f.thing as f64 && f.sphere_lost as f64 <= 0.03 * f.sphere as f64,
+        "{boxes} of 10 found; box pixels kept {} of {}; sphere pixels lost {} of {}",
+        f.thing_kept, f.thing, f.sphere_lost, f.sphere
+    );
+    let (boxes, _) = found[DISKS];
     assert!(boxes >= 2, "{boxes} of 3 found in tests/data/disks");
 }
 

@@ -49,13 +49,33 @@ fn near(a: &Disk, b: &Disk, share: f64) -> bool {
 
 /// Where the sphere is: [`find_disk`], with the share of the outline the picture shows.
 pub fn locate(p: &Painting, name: &str) -> Result<Located> {
+    locate_reading(p, name).map(|(located, _)| located)
+}
+
+/// [`locate`], and what stands in front of the sphere ([`in_front`]), read from the edges
+/// the finder computed.
+pub(super) fn locate_in_front(p: &Painting, name: &str) -> Result<(Located, Option<InFront>)> {
+    let (located, reading) = locate_reading(p, name)?;
+    let front = reading.and_then(|r| in_front(&r.channels, &r.coarse, &located, p.width, p.height));
+    Ok((located, front))
+}
+
+/// What the finder computed from a picture without alpha, which the occluder reads too.
+struct Reading {
+    channels: Vec<Vec<f32>>,
+    coarse: Vec<edges::Edge>,
+}
+
+/// [`locate`], with the picture's channels and coarse edges (none where an alpha channel
+/// gave the disk).
+fn locate_reading(p: &Painting, name: &str) -> Result<(Located, Option<Reading>)> {
     let (w, h) = (p.width, p.height);
     let has_alpha = p.alpha.iter().any(|&a| a < 0.5) && p.alpha.iter().any(|&a| a >= 0.5);
     if has_alpha {
         let mask: Vec<bool> = p.alpha.iter().map(|&a| a >= 0.5).collect();
         let disk = outline_circle(&mask, Boundary::Coverage, w, h, name)?;
         let edges = edges::points(std::slice::from_ref(&p.alpha), w, h);
-        return Ok(Located { disk, outline: Outline::Alpha, seen: edges::support(&edges, &disk, w, h).seen });
+        return Ok((Located { disk, outline: Outline::Alpha, seen: edges::support(&edges, &disk, w, h).seen }, None));
     }
     let key = border_median(p);
     let distance: Vec<f32> = p.pixels.iter().map(|c| perceptual_distance(c, &key)).collect();
@@ -74,7 +94,7 @@ pub fn locate(p: &Painting, name: &str) -> Result<Located> {
     let square = w.abs_diff(h) <= 1;
     let inscribed = Disk { cx: w as f64 / 2.0, cy: h as f64 / 2.0, r: w.min(h) as f64 / 2.0 };
     let by_edges = edge_circle(&edges, &coarse, w, h, name);
-    match (segmented, by_edges) {
+    let located = match (segmented, by_edges) {
         (Ok(disk), Ok(EdgeCircle::Clear(e))) => {
             let own = edges::support(&edges, &disk, w, h);
             Ok(if e.seen_in_frame > own.seen_in_frame + BETTER_BY {
@@ -89,7 +109,8 @@ pub fn locate(p: &Painting, name: &str) -> Result<Located> {
         (Err(_), _) if square => Ok(Located { disk: inscribed, outline: Outline::Inscribed, seen: edges::support(&edges, &inscribed, w, h).seen }),
         (Err(_), Ok(EdgeCircle::Faint(e))) => Ok(Located { disk: e.disk, outline: Outline::Faint, seen: e.seen }),
         (Err(e), _) => Err(e),
-    }
+    }?;
+    Ok((located, Some(Reading { channels, coarse })))
 }
 
 /// Where the sphere is: a circle fitted to the alpha channel when the picture has one, or
@@ -103,15 +124,15 @@ pub fn find_disk(p: &Painting, name: &str) -> Result<(Disk, Outline)> {
     locate(p, name).map(|l| (l.disk, l.outline))
 }
 
-/// What stands in front of the sphere `located` in `p` ([`occluder`]): nothing in a MatCap
-/// (a disk inscribed in its square, alone) or where an alpha channel says what the sphere is.
-pub(super) fn in_front(p: &Painting, located: &Located) -> Option<InFront> {
+/// What stands in front of the sphere `located` in a `w` × `h` picture of `channels`
+/// ([`perceptual_channels`]) and `coarse` edges ([`edges::coarse_points`], where grain and
+/// bristle marks along the thing's top blur away) ([`occluder`]): nothing in a MatCap (a disk
+/// inscribed in its square, alone) or where an alpha channel says what the sphere is.
+fn in_front(channels: &[Vec<f32>], coarse: &[edges::Edge], located: &Located, w: usize, h: usize) -> Option<InFront> {
     if matches!(located.outline, Outline::Inscribed | Outline::Alpha) {
         return None;
     }
-    let channels = perceptual_channels(p);
-    // At the coarse scale, where grain and bristle marks along the thing's top blur away.
-    occluder::find(&channels, &edges::coarse_points(&channels, p.width, p.height), &located.disk, p.width, p.height)
+    occluder::find(channels, coarse, &located.disk, w, h)
 }
 
 /// The circles the picture's edges support: the best one that shows at least [`MIN_SEEN`]
@@ -281,8 +302,9 @@ fn kasa(points: &[glam::DVec2]) -> Option<Disk> {
 }
 
 /// The disk a user gave (`as_given`, in the file's pixels; `disk`, the same in the shrunk
-/// `painting`'s), checked: a circle of at least 4 pixels whose inside is mostly in the picture.
-pub(super) fn given_disk(painting: &Painting, disk: Disk, as_given: Disk, name: &str) -> Result<Located> {
+/// `painting`'s), checked: a circle of at least 4 pixels whose inside is mostly in the picture;
+/// and what stands in front of the sphere ([`in_front`]).
+pub(super) fn given_disk(painting: &Painting, disk: Disk, as_given: Disk, name: &str) -> Result<(Located, Option<InFront>)> {
     let Disk { cx, cy, r } = as_given;
     let shown = format!("the disk at ({cx}, {cy}) of radius {r}");
     if !(cx.is_finite() && cy.is_finite() && r.is_finite()) || r <= 0.0 {
@@ -297,8 +319,11 @@ pub(super) fn given_disk(painting: &Painting, disk: Disk, as_given: Disk, name: 
     if (inside as f64) < 0.5 * area {
         return Err(Error::input(format!("{shown}: less than half of that disk lies on {name} ({}x{} pixels)", painting.width, painting.height)));
     }
-    let seen = edges::support(&edges::points(&perceptual_channels(painting), w, h), &disk, w, h).seen;
-    Ok(Located { disk, outline: Outline::Given, seen })
+    let channels = perceptual_channels(painting);
+    let seen = edges::support(&edges::points(&channels, w, h), &disk, w, h).seen;
+    let located = Located { disk, outline: Outline::Given, seen };
+    let front = in_front(&channels, &edges::coarse_points(&channels, w, h), &located, w, h);
+    Ok((located, front))
 }
 
 #[cfg(test)]

@@ -183,6 +183,12 @@ fn lines(edges: &[Edge], w: usize, h: usize) -> Vec<(DVec2, f64)> {
     peaks.into_iter().take(CANDIDATES).map(|(_, t, r)| (DVec2::from_angle((t as f64).to_radians()), r as f64 - reach as f64)).collect()
 }
 
+/// Whether edge point `e` lies on `line`: within [`NEAR`] of it, its gradient within
+/// [`ALONG_DEG`] of the line's normal.
+fn lies_on(e: &Edge, line: &InFront) -> bool {
+    (line.normal.dot(e.p) - line.offset).abs() <= NEAR && e.g.dot(line.normal).abs() >= ALONG_DEG.to_radians().cos()
+}
+
 /// Edge points by pixel, for looking them up along a line.
 struct Grid<'a> {
     edges: &'a [Edge],
@@ -204,9 +210,8 @@ impl<'a> Grid<'a> {
         Grid { edges, at, w, h }
     }
 
-    /// Whether an edge point lies on `line` near `p` ([`NEAR`], [`ALONG_DEG`]).
+    /// Whether an edge point near `p` lies on `line` ([`lies_on`]).
     fn on(&self, line: &InFront, p: DVec2) -> bool {
-        let cos = ALONG_DEG.to_radians().cos();
         let (ci, cj) = (p.x.floor() as isize, p.y.floor() as isize);
         (-2..=2).any(|dj| {
             (-2..=2).any(|di| {
@@ -214,10 +219,7 @@ impl<'a> Grid<'a> {
                 if i < 0 || j < 0 || i >= self.w as isize || j >= self.h as isize {
                     return false;
                 }
-                self.at[j as usize * self.w + i as usize].is_some_and(|k| {
-                    let e = &self.edges[k as usize];
-                    (line.normal.dot(e.p) - line.offset).abs() <= NEAR && e.g.dot(line.normal).abs() >= cos
-                })
+                self.at[j as usize * self.w + i as usize].is_some_and(|k| lies_on(&self.edges[k as usize], line))
             })
         })
     }
@@ -246,8 +248,7 @@ impl<'a> Grid<'a> {
     /// The least-squares line (orthogonal regression) through the edge points on `line`,
     /// facing the same way: the vote's bins place it to a degree and a pixel.
     fn fit(&self, line: &InFront) -> Option<InFront> {
-        let cos = ALONG_DEG.to_radians().cos();
-        let on: Vec<DVec2> = self.edges.iter().filter(|e| (line.normal.dot(e.p) - line.offset).abs() <= NEAR && e.g.dot(line.normal).abs() >= cos).map(|e| e.p).collect();
+        let on: Vec<DVec2> = self.edges.iter().filter(|e| lies_on(e, line)).map(|e| e.p).collect();
         if on.len() < 8 {
             return None;
         }

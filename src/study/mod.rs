@@ -17,6 +17,7 @@ pub mod bench;
 pub mod colour;
 pub mod faults;
 pub mod fidelity;
+pub mod front;
 pub mod painted;
 pub mod photos;
 pub mod rendered;
