@@ -125,9 +125,29 @@ pub fn difference(l: DVec3, h: DVec3) -> DVec3 {
 pub fn warp_forward(t: f64, gamma: f64) -> f64 {
     if gamma == 1.0 {
         t
+    } else if gamma == 3.0 {
+        // The half factor's default warp, on every sample of every prepare.
+        cube_root(t.clamp(0.0, 1.0))
     } else {
         t.clamp(0.0, 1.0).powf(1.0 / gamma)
     }
+}
+
+/// $x^{1/3}$ for $x \in [0, 1]$ to a few ulp: a first guess from the exponent divided by
+/// three (within 4%), then three steps of Halley's iteration (each cubes the relative error),
+/// several times cheaper than a library root.
+#[inline]
+fn cube_root(x: f64) -> f64 {
+    if !(x >= 1e-300) {
+        return x.max(0.0).cbrt();
+    }
+    // 0x2A9F7893782DA1CE ≈ (2/3)·1023 in the exponent field, less a bias that centres the error.
+    let mut y = f64::from_bits(x.to_bits() / 3 + 0x2A9F_7893_782D_A1CE);
+    for _ in 0..3 {
+        let y3 = y * y * y;
+        y *= (y3 + 2.0 * x) / (2.0 * y3 + x);
+    }
+    y
 }
 
 /// Inverse of [`warp_forward`]: $t = s^\gamma$.
@@ -217,6 +237,20 @@ pub fn uv_nearest_node(uv: DVec2, res: usize) -> usize {
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    #[test]
+    fn cube_root_agrees_with_the_library_root() {
+        let mut worst = 0.0f64;
+        for k in 0..=100_000 {
+            // Uniform in [0, 1] and geometric down to 1e-300.
+            for x in [k as f64 / 100_000.0, 10f64.powf(-300.0 * k as f64 / 100_000.0)] {
+                let (ours, exact) = (cube_root(x), x.cbrt());
+                worst = worst.max((ours - exact).abs() / exact.max(f64::MIN_POSITIVE));
+            }
+        }
+        assert!(worst < 4.0 * f64::EPSILON, "{worst:e}");
+        assert_eq!((cube_root(0.0), cube_root(1.0), cube_root(0.125)), (0.0, 1.0, 0.5));
+    }
 
     fn dir(theta: f64, phi: f64) -> DVec3 {
         DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos())

@@ -14,7 +14,6 @@
 
 use std::time::Instant;
 
-use faer::linalg::solvers::DenseSolveCore;
 use faer::{Accum, Mat, Par, Side};
 
 use super::chroma::{self, Coupled, Solve};
@@ -604,15 +603,43 @@ fn not_spd<E>(_: E) -> Error {
     )
 }
 
+/// $\mathbf G^{-1}$ by dense Cholesky, on this thread: at these sizes (n ≤ [`DENSE_MAX`])
+/// handing blocks to other threads costs more than the whole factorization.
+fn dense_inverse(mut g: Mat<f64>) -> Result<Mat<f64>> {
+    use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+    use faer::linalg::cholesky::llt;
+    let n = g.nrows();
+    let scratch = StackReq::any_of(&[
+        llt::factor::cholesky_in_place_scratch::<f64>(n, Par::Seq, Default::default()),
+        llt::inverse::inverse_scratch::<f64>(n, Par::Seq),
+    ]);
+    let mut mem = MemBuffer::new(scratch);
+    let stack = MemStack::new(&mut mem);
+    llt::factor::cholesky_in_place(g.as_mut(), Default::default(), Par::Seq, stack, Default::default()).map_err(not_spd)?;
+    // L is the lower triangle; the upper still holds G.
+    for j in 1..n {
+        for i in 0..j {
+            g[(i, j)] = 0.0;
+        }
+    }
+    let mut inverse = Mat::zeros(n, n);
+    llt::inverse::inverse(inverse.as_mut(), g.as_ref(), Par::Seq, stack);
+    // The inverse fills the lower triangle; the solve multiplies by the whole matrix.
+    for j in 0..n {
+        for i in 0..j {
+            inverse[(i, j)] = inverse[(j, i)];
+        }
+    }
+    Ok(inverse)
+}
+
 /// Factor G by the method (and, for Cholesky, dense or sparse by size).
 pub(crate) fn factor(g: &SymCsc, settings: &Settings) -> Result<Solver> {
     if settings.method != Method::Cholesky {
         return Ok(Solver::Spectral(Spectral::new(g, settings.method)?));
     }
     if g.n <= DENSE_MAX {
-        let dense = g.to_dense();
-        let llt = dense.llt(Side::Lower).map_err(not_spd)?;
-        return Ok(Solver::Dense(llt.inverse()));
+        return Ok(Solver::Dense(dense_inverse(g.to_dense())?));
     }
     let llt = SparseLlt::new(g.n, g.col_ptr.clone(), g.row.clone(), g.val.clone())
         .map_err(|e| e.unwrap_or_else(|| not_spd(())))?;

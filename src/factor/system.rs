@@ -59,6 +59,7 @@ fn unwarped(spec: &FactorSpec, q: &Query) -> [f64; 2] {
 }
 
 /// Interpolation stencil of a query in one factor's table.
+#[inline]
 pub fn stencil(spec: &FactorSpec, q: &Query) -> Stencil {
     let t = coordinate(spec, q);
     if spec.dim() == 1 {
@@ -68,9 +69,9 @@ pub fn stencil(spec: &FactorSpec, q: &Query) -> Stencil {
     }
 }
 
-/// The sample matrix $\mathbf A$ (N × n), stored both by rows (to predict, and to scatter
-/// $\mathbf A^\top \tilde{\mathbf f}$) and by columns (to assemble $\mathbf G$ and to pick
-/// each factor's gauge node).
+/// The sample matrix $\mathbf A$ (N × n), stored by rows (to predict, and to scatter
+/// $\mathbf A^\top \tilde{\mathbf f}$), with each node's data weight; by columns too, made
+/// the first time they are asked for (only the sparse assembly of $\mathbf G$ needs them).
 #[derive(Clone, Debug, Default)]
 pub struct Design {
     /// Unknowns (columns).
@@ -80,9 +81,17 @@ pub struct Design {
     pub row_ptr: Vec<u32>,
     pub row_col: Vec<u32>,
     pub row_val: Vec<f64>,
-    pub col_ptr: Vec<u32>,
-    pub col_row: Vec<u32>,
-    pub col_val: Vec<f64>,
+    /// Each node's summed interpolation weight over the samples.
+    weights: Vec<f64>,
+    columns: std::sync::OnceLock<Columns>,
+}
+
+/// $\mathbf A$ in compressed columns: each column's samples (rows) and weights.
+#[derive(Clone, Debug, Default)]
+pub struct Columns {
+    pub ptr: Vec<u32>,
+    pub row: Vec<u32>,
+    pub val: Vec<f64>,
 }
 
 /// Patterns from which the sample rows are built on several threads.
@@ -91,56 +100,110 @@ const PARALLEL_SAMPLES: usize = 4096;
 /// The sample rows of $\mathbf A$ in compressed form (row pointers, columns, weights) and
 /// each factor's summed weight. Zero weights carry no information and are left out, which
 /// keeps G sparser.
+///
+/// Every row has the same stencil lengths, so the rows are first written at a fixed stride
+/// straight into their place (chunks of rows on several threads, factor by factor so each
+/// factor's parametrization is chosen once per chunk), then compacted where a weight is
+/// zero (a sample exactly on a node).
 fn sample_rows(pattern: &Pattern, settings: &Settings, offsets: &[usize]) -> (Vec<u32>, Vec<u32>, Vec<f64>, Vec<f64>) {
     use rayon::prelude::*;
-    let per_row: usize = settings.factors.iter().map(|f| if f.dim() == 1 { 2 } else { 4 }).sum();
-    let build = |queries: &[Query]| {
-        let mut lens = Vec::with_capacity(queries.len());
-        let mut cols = Vec::with_capacity(queries.len() * per_row);
-        let mut vals = Vec::with_capacity(queries.len() * per_row);
-        let mut reached = vec![0.0f64; settings.factors.len()];
-        for q in queries {
-            let before = cols.len();
-            for (j, f) in settings.factors.iter().enumerate() {
-                for (i, w) in stencil(f, q).iter() {
-                    if w != 0.0 {
-                        cols.push((offsets[j] + i) as u32);
-                        vals.push(w);
-                        reached[j] += w;
-                    }
+    let widths: Vec<usize> = settings.factors.iter().map(|f| if f.dim() == 1 { 2 } else { 4 }).collect();
+    let stride: usize = widths.iter().sum();
+    let rows = pattern.len();
+    let mut cols = vec![0u32; rows * stride];
+    let mut vals = vec![0.0f64; rows * stride];
+    let fill = |queries: &[Query], cols: &mut [u32], vals: &mut [f64]| {
+        let mut at = 0;
+        for ((f, &width), &offset) in settings.factors.iter().zip(&widths).zip(offsets) {
+            for (k, q) in queries.iter().enumerate() {
+                let s = stencil(f, q);
+                let row = k * stride + at;
+                for e in 0..width {
+                    cols[row + e] = offset as u32 + s.index[e];
+                    vals[row + e] = s.weight[e];
                 }
             }
-            lens.push((cols.len() - before) as u32);
+            at += width;
         }
-        (lens, cols, vals, reached)
     };
-    let parts = if pattern.len() >= PARALLEL_SAMPLES {
-        let per = pattern.len().div_ceil(rayon::current_num_threads().max(1) * 4);
-        pattern.queries.par_chunks(per).map(build).collect()
+    if rows >= PARALLEL_SAMPLES {
+        let per = rows.div_ceil(rayon::current_num_threads().max(1));
+        pattern
+            .queries
+            .par_chunks(per)
+            .zip(cols.par_chunks_mut(per * stride).zip(vals.par_chunks_mut(per * stride)))
+            .for_each(|(q, (c, v))| fill(q, c, v));
     } else {
-        vec![build(&pattern.queries)]
-    };
-    let total: usize = parts.iter().map(|p| p.1.len()).sum();
-    let mut row_ptr = Vec::with_capacity(pattern.len() + 1);
-    row_ptr.push(0u32);
-    let (mut row_col, mut row_val) = (Vec::with_capacity(total), Vec::with_capacity(total));
-    let mut reached = vec![0.0f64; settings.factors.len()];
-    for (lens, cols, vals, sums) in parts {
-        for len in lens {
-            row_ptr.push(row_ptr[row_ptr.len() - 1] + len);
-        }
-        row_col.extend(cols);
-        row_val.extend(vals);
-        reached.iter_mut().zip(sums).for_each(|(r, s)| *r += s);
+        fill(&pattern.queries, &mut cols, &mut vals);
     }
-    (row_ptr, row_col, row_val, reached)
+    let mut reached = vec![0.0f64; settings.factors.len()];
+    for row in vals.chunks_exact(stride) {
+        let mut at = 0;
+        for (r, &width) in reached.iter_mut().zip(&widths) {
+            *r += row[at..at + width].iter().sum::<f64>();
+            at += width;
+        }
+    }
+    let row_ptr = if vals.contains(&0.0) {
+        compact(&mut cols, &mut vals, stride)
+    } else {
+        (0..=rows).map(|r| (r * stride) as u32).collect()
+    };
+    (row_ptr, cols, vals, reached)
+}
+
+/// Drops the zero weights of fixed-stride rows in place; the rows' pointers.
+fn compact(cols: &mut Vec<u32>, vals: &mut Vec<f64>, stride: usize) -> Vec<u32> {
+    let rows = vals.len() / stride;
+    let mut row_ptr = Vec::with_capacity(rows + 1);
+    row_ptr.push(0u32);
+    let mut kept = 0;
+    for k in 0..rows * stride {
+        if vals[k] != 0.0 {
+            cols[kept] = cols[k];
+            vals[kept] = vals[k];
+            kept += 1;
+        }
+        if k % stride == stride - 1 {
+            row_ptr.push(kept as u32);
+        }
+    }
+    cols.truncate(kept);
+    vals.truncate(kept);
+    row_ptr
 }
 
 impl Design {
     /// Each node's data weight: the sum of its interpolation weights over the samples. Below
     /// 1, no sample really reaches the node: its value is the smoothing's extrapolation.
-    pub fn node_weights(&self) -> Vec<f64> {
-        (0..self.n).map(|col| self.col_val[self.col_ptr[col] as usize..self.col_ptr[col + 1] as usize].iter().sum()).collect()
+    pub fn node_weights(&self) -> &[f64] {
+        &self.weights
+    }
+
+    /// $\mathbf A$ by columns (a counting sort of the rows, made once).
+    pub fn columns(&self) -> &Columns {
+        self.columns.get_or_init(|| {
+            let mut ptr = vec![0u32; self.n + 1];
+            for &c in &self.row_col {
+                ptr[c as usize + 1] += 1;
+            }
+            for c in 0..self.n {
+                ptr[c + 1] += ptr[c];
+            }
+            let mut fill = ptr.clone();
+            let mut row = vec![0u32; self.row_col.len()];
+            let mut val = vec![0.0; self.row_col.len()];
+            for r in 0..self.rows() {
+                for k in self.row_ptr[r] as usize..self.row_ptr[r + 1] as usize {
+                    let c = self.row_col[k] as usize;
+                    let dst = fill[c] as usize;
+                    row[dst] = r as u32;
+                    val[dst] = self.row_val[k];
+                    fill[c] += 1;
+                }
+            }
+            Columns { ptr, row, val }
+        })
     }
 
     /// Build $\mathbf A$ for a pattern. Errors: empty pattern, uv factors without uv, a
@@ -175,28 +238,11 @@ impl Design {
                 )));
             }
         }
-        // Transpose to column storage by counting sort.
-        let mut col_ptr = vec![0u32; n + 1];
-        for &c in &row_col {
-            col_ptr[c as usize + 1] += 1;
+        let mut weights = vec![0.0; n];
+        for (&c, &w) in row_col.iter().zip(&row_val) {
+            weights[c as usize] += w;
         }
-        for c in 0..n {
-            col_ptr[c + 1] += col_ptr[c];
-        }
-        let rows = pattern.len();
-        let mut fill = col_ptr.clone();
-        let mut col_row = vec![0u32; row_col.len()];
-        let mut col_val = vec![0.0; row_col.len()];
-        for r in 0..rows {
-            for k in row_ptr[r] as usize..row_ptr[r + 1] as usize {
-                let c = row_col[k] as usize;
-                let dst = fill[c] as usize;
-                col_row[dst] = r as u32;
-                col_val[dst] = row_val[k];
-                fill[c] += 1;
-            }
-        }
-        Ok(Design { n, offsets, row_ptr, row_col, row_val, col_ptr, col_row, col_val })
+        Ok(Design { n, offsets, row_ptr, row_col, row_val, weights, columns: Default::default() })
     }
 
     /// Number of samples (rows).
@@ -397,8 +443,8 @@ pub(crate) fn regularization(settings: &Settings, design: &Design) -> Rows {
         // block to G. The pinned node is the one the samples weigh most. A ridged factor
         // has no null direction.
         if j > 0 && f.ridge == 0.0 {
-            let weight = |c: usize| design.col_val[design.col_ptr[c] as usize..design.col_ptr[c + 1] as usize].iter().sum::<f64>();
-            let anchor = (0..f.len()).max_by(|&a, &b| weight(offsets[j] + a).total_cmp(&weight(offsets[j] + b))).unwrap_or(0);
+            let weight = design.node_weights();
+            let anchor = (0..f.len()).max_by(|&a, &b| weight[offsets[j] + a].total_cmp(&weight[offsets[j] + b])).unwrap_or(0);
             push(vec![vec![(anchor, n_samples.sqrt() / f.len() as f64)]], 1.0, offsets[j]);
         }
     }
@@ -572,6 +618,7 @@ fn sparse_normal_matrix(design: &Design, reg: &Rows, floor: f64, progress: Optio
 /// Columns `columns` of $\mathbf G$: each column's length, and the rows and values of all.
 fn gustavson_columns(design: &Design, reg: &Rows, reg_by_col: &[Vec<u32>], floor: f64, columns: std::ops::Range<usize>) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
     let n = design.n;
+    let by_column = design.columns();
     let mut acc = vec![0.0f64; n];
     let mut mark = vec![usize::MAX; n];
     let mut touched: Vec<usize> = Vec::new();
@@ -586,8 +633,8 @@ fn gustavson_columns(design: &Design, reg: &Rows, reg_by_col: &[Vec<u32>], floor
             }
             acc[i] += x;
         };
-        for k in design.col_ptr[c] as usize..design.col_ptr[c + 1] as usize {
-            let (r, w) = (design.col_row[k] as usize, design.col_val[k]);
+        for k in by_column.ptr[c] as usize..by_column.ptr[c + 1] as usize {
+            let (r, w) = (by_column.row[k] as usize, by_column.val[k]);
             for k2 in design.row_ptr[r] as usize..design.row_ptr[r + 1] as usize {
                 add(design.row_col[k2] as usize, w * design.row_val[k2], &mut touched);
             }
@@ -600,11 +647,20 @@ fn gustavson_columns(design: &Design, reg: &Rows, reg_by_col: &[Vec<u32>], floor
             }
         }
         add(c, floor, &mut touched);
-        touched.sort_unstable();
         lens.push(touched.len());
-        for &i in &touched {
-            row.push(i);
-            val.push(acc[i]);
+        // Rows ascend: sorted, or, for a column touching much of G (a 1D table's node,
+        // reached by samples all over a 2D table), read off the marks in order, which is cheaper.
+        if touched.len() * 8 < n {
+            touched.sort_unstable();
+            for &i in &touched {
+                row.push(i);
+                val.push(acc[i]);
+            }
+        } else {
+            for i in (0..n).filter(|&i| mark[i] == c) {
+                row.push(i);
+                val.push(acc[i]);
+            }
         }
     }
     (lens, row, val)
