@@ -557,13 +557,23 @@ pub fn errors(predicted: &[[f64; 3]], values: &[[f64; 3]]) -> Errors {
 
 /// Build and factor the system for a pattern. Depends only on where the samples are.
 pub fn prepare(pattern: &Pattern, settings: &Settings) -> Result<Prepared> {
+    let start = Instant::now();
     if settings.channels == Channels::Coupled {
-        let luminance = prepare(pattern, &settings.luminance())?;
-        let chroma = settings.chroma().iter().map(|s| prepare(pattern, s)).collect::<Result<Vec<_>>>()?;
+        // One sample matrix for all: each chroma system's is one factor's columns of the
+        // luminance's (the same stencils; only the regularization differs).
+        let luminance = settings.luminance();
+        let design = Design::new(pattern, &luminance)?;
+        let blocks: Vec<Design> = (0..settings.factors.len()).map(|j| design.factor_block(j)).collect();
+        let luminance = prepare_design(design, &luminance, start)?;
+        let chroma = blocks.into_iter().zip(settings.chroma()).map(|(d, s)| prepare_design(d, &s, Instant::now())).collect::<Result<Vec<_>>>()?;
         return Ok(Prepared::couple(settings, luminance, chroma));
     }
-    let start = Instant::now();
-    let design = Design::new(pattern, settings)?;
+    prepare_design(Design::new(pattern, settings)?, settings, start)
+}
+
+/// Assemble and factor the normal equations of a sample matrix; `start` is when the
+/// preparing began (its time is reported).
+fn prepare_design(design: Design, settings: &Settings, start: Instant) -> Result<Prepared> {
     let bar = progress_bar(&design);
     let g = system::normal_matrix(&design, settings, bar.as_ref());
     if let Some(bar) = &bar {

@@ -245,6 +245,27 @@ impl Design {
         Ok(Design { n, offsets, row_ptr, row_col, row_val, weights, columns: Default::default() })
     }
 
+    /// Factor `j`'s columns alone, numbered from 0: the sample matrix of a system of that
+    /// factor by itself (the same as building it from the pattern, without the stencils).
+    pub fn factor_block(&self, j: usize) -> Design {
+        let end = self.offsets.get(j + 1).copied().unwrap_or(self.n);
+        let cols = self.offsets[j] as u32..end as u32;
+        let mut row_ptr = Vec::with_capacity(self.row_ptr.len());
+        row_ptr.push(0u32);
+        let (mut row_col, mut row_val) = (Vec::new(), Vec::new());
+        for r in 0..self.rows() {
+            for k in self.row_ptr[r] as usize..self.row_ptr[r + 1] as usize {
+                if cols.contains(&self.row_col[k]) {
+                    row_col.push(self.row_col[k] - cols.start);
+                    row_val.push(self.row_val[k]);
+                }
+            }
+            row_ptr.push(row_col.len() as u32);
+        }
+        let weights = self.weights[cols.start as usize..end].to_vec();
+        Design { n: cols.len(), offsets: vec![0], row_ptr, row_col, row_val, weights, columns: Default::default() }
+    }
+
     /// Number of samples (rows).
     pub fn rows(&self) -> usize {
         self.row_ptr.len() - 1
@@ -715,6 +736,21 @@ mod tests {
             let truth = by_definition(&design, &reg, 1e-9);
             check(&dense_normal_matrix(&design, &reg, 1e-9), &truth);
             check(&sparse_normal_matrix(&design, &reg, 1e-9, None), &truth);
+        }
+    }
+
+    #[test]
+    fn a_factor_block_is_the_sample_matrix_of_that_factor_alone() {
+        // A pattern large enough to build its rows on several threads, with samples on nodes.
+        let pattern = SphereView::new(glam::DVec3::new(0.0, 0.0, 1.0), 80).pattern();
+        for settings in [Settings::uniform(1, 16), Settings::four_factor(1, 8, 6)] {
+            let whole = Design::new(&pattern, &settings).unwrap();
+            for (j, alone) in settings.chroma().iter().enumerate() {
+                let (block, fresh) = (whole.factor_block(j), Design::new(&pattern, alone).unwrap());
+                assert_eq!((block.n, &block.offsets, &block.row_ptr, &block.row_col), (fresh.n, &fresh.offsets, &fresh.row_ptr, &fresh.row_col));
+                assert_eq!((&block.row_val, block.node_weights()), (&fresh.row_val, fresh.node_weights()));
+                assert_eq!(block.columns().val, fresh.columns().val);
+            }
         }
     }
 }
