@@ -10,13 +10,6 @@ use faer::{Conj, Mat, Par, Side};
 
 use crate::error::{Error, Result};
 
-/// A G fuller than this is factored in its own order, without AMD's fill-reducing one. The
-/// tables make two kinds of G: products of 1D tables, where each node meets most others'
-/// (13–20% full), and 2D or uv grids, where a node meets its neighbours' and a few 1D
-/// nodes (2–7% full). The first fills in under any order, and the minimum-degree search
-/// costs more than the fill it saves (three 1D tables of 128 nodes: 1.7 → 0.8 ms); the
-/// supernodal factor of a near-full matrix is a dense one.
-const FULL_SHARE: f64 = 0.1;
 /// Factors with at least this many nonzeros are computed on every thread.
 const PARALLEL_FACTOR: usize = 200_000;
 /// Factors with more nonzeros than this split a few-column solve between two threads.
@@ -32,10 +25,9 @@ impl SparseLlt {
     /// Factor the matrix given in full compressed columns (rows ascending in each column).
     /// `Err(None)` means it is not positive definite.
     pub fn new(n: usize, col_ptr: Vec<usize>, row: Vec<usize>, val: Vec<f64>) -> Result<SparseLlt, Option<Error>> {
-        let ordering = if row.len() as f64 > FULL_SHARE * (n * n) as f64 { SymmetricOrdering::Identity } else { SymmetricOrdering::Amd };
         let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row);
         let mat = SparseColMat::new(symbolic, val);
-        let sym = factorize_symbolic_cholesky(mat.symbolic(), Side::Lower, ordering, Default::default())
+        let sym = factorize_symbolic_cholesky(mat.symbolic(), Side::Lower, SymmetricOrdering::Amd, Default::default())
             .map_err(|e| Some(Error::Numeric(format!("symbolic factorization failed: {e:?}"))))?;
         let mut values = vec![0.0; sym.len_val()];
         // The numeric factorization is the heavy part: threads pay off there, once the factor
