@@ -20,7 +20,7 @@ use super::chroma::{self, Coupled, Solve};
 use super::mapping::{LogMap, Mapping, IDENTITY_FLOOR};
 use super::pattern::{Pattern, Query};
 use super::settings::{Channels, Method, Settings};
-use super::sparse::SparseLlt;
+use super::sparse::{Order, SparseLlt};
 use super::system::{self, Design, SymCsc};
 use crate::error::{Error, Result};
 
@@ -651,7 +651,8 @@ pub(crate) fn factor(g: &SymCsc, settings: &Settings) -> Result<Solver> {
     if g.n <= DENSE_MAX {
         return Ok(Solver::Dense(dense_inverse(g.to_dense())?));
     }
-    let llt = SparseLlt::new(g.n, g.col_ptr.clone(), g.row.clone(), g.val.clone())
+    let order = if settings.factors.iter().all(|f| f.dim() == 1) { Order::Degree } else { Order::Amd };
+    let llt = SparseLlt::new(g.n, g.col_ptr.clone(), g.row.clone(), g.val.clone(), order)
         .map_err(|e| e.unwrap_or_else(|| not_spd(())))?;
     Ok(Solver::Sparse(Box::new(llt), g.clone()))
 }
