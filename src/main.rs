@@ -12,7 +12,7 @@ fn main() -> std::process::ExitCode {
     }
     // A prepare allocates and frees its matrices (up to tens of MB) once per fit or stroke.
     // glibc hands such blocks back to the kernel, and every prepare then faults its pages in
-    // again, zeroed; kept in the heap they are reused (a four-factor prepare 25% faster).
+    // again, zeroed; kept in the heap they are reused (BENCHMARKS.md, the peer section).
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: mallopt only sets allocator parameters, before any thread starts.
     unsafe {

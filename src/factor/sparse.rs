@@ -20,9 +20,9 @@ pub(crate) enum Order {
     /// (AMD otherwise). Every sample couples one node of each table, and the nodes most
     /// samples meet couple to most of the others: eliminating the least coupled first is
     /// minimum degree without the updates, which there fills 5–10% more than AMD, whose
-    /// updates cost more than that fill (three tables of 128 nodes: symbolic analysis 0.87 →
-    /// 0.24 ms). In a grid the fill comes from the elimination itself, which only the
-    /// updates see (twice AMD's in a four-factor product).
+    /// updates cost more than that fill (BENCHMARKS.md: a quarter of the symbolic analysis).
+    /// In a grid the fill comes from the elimination itself, which only the updates see
+    /// (twice AMD's in a four-factor product).
     Degree,
 }
 
