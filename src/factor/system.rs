@@ -97,8 +97,8 @@ pub struct Columns {
 /// Patterns from which the sample rows are built on several threads.
 const PARALLEL_SAMPLES: usize = 4096;
 
-/// The sample rows of $\mathbf A$ in compressed form (row pointers, columns, weights). Zero weights carry no information and are left out, which
-/// keeps G sparser.
+/// The sample rows of $\mathbf A$ in compressed form (row pointers, columns, weights).
+/// Zero weights carry no information and are left out, which keeps G sparser.
 ///
 /// Every row has the same stencil lengths, so the rows are first written at a fixed stride
 /// straight into their place (chunks of rows on several threads, factor by factor so each
