@@ -51,7 +51,7 @@ mod segment;
 pub mod style;
 pub mod texture;
 
-pub use light::{estimate_light, estimate_tone_light, highlight_lean, unlit_floor, LightEstimate, KEY, MIN_LIGHT_Z, UNDECIDED_DEG};
+pub use light::{estimate_light, estimate_tone_light, highlight_lean, light_size, unlit_floor, LightEstimate, ENVIRONMENT_KEY_DEG, KEY, MIN_LIGHT_Z, UNDECIDED_DEG};
 pub use locate::{find_disk, locate, MIN_SEEN};
 pub use style::Style;
 use locate::given_disk;
@@ -96,7 +96,8 @@ pub enum Outline {
     /// The best circle on the picture's edges where none shows a clear arc (less than
     /// [`MIN_SEEN`] of its outline, at least [`locate::MIN_FAINT`]): to be checked.
     Faint,
-    /// No clear outline in a square picture: the disk inscribed in it, as in every MatCap.
+    /// A square picture without a clearly other outline: the disk inscribed in it, as in
+    /// every MatCap.
     Inscribed,
     /// Given by the user (`--disk`).
     Given,
@@ -197,7 +198,8 @@ pub fn light_floor(picture: &Picture, light: DVec3) -> f64 {
 
 /// The fit settings of a lit sphere: `base` with the light factor drawn to its physical
 /// shape where the picture leaves it free ([`Settings::light_prior`], with first-difference
-/// damping [`LIGHT_DAMP`] of its deviation from $\cos\theta_l$).
+/// damping [`LIGHT_DAMP`] of its deviation from the irradiance of a key light of angular
+/// radius `light_radius_deg`, [`light_size`]).
 ///
 /// Why: a lit sphere is one view, often lit from near the viewer, and with the light at the
 /// viewer every pixel has $\theta_l = \theta_h = \theta_v$: the picture fixes only the product
@@ -208,8 +210,8 @@ pub fn light_floor(picture: &Picture, light: DVec3) -> f64 {
 /// light's, as irradiance is, and a light behind the surface finds the floor; where the
 /// picture shows otherwise (a Gooch sphere's lit unlit side) the data win. Measured on the 23
 /// bundled MatCaps under a light sweep around the bunny (tests/lit_sphere.rs).
-pub fn settings(base: &Settings, floor: f64) -> Settings {
-    base.with_light_prior(LIGHT_DAMP, floor)
+pub fn settings(base: &Settings, floor: f64, light_radius_deg: f64) -> Settings {
+    Settings { light_radius_deg, ..base.with_light_prior(LIGHT_DAMP, floor) }
 }
 
 /// A lit-sphere picture made ready to fit: read, box-filtered to at most a given side, its
@@ -426,7 +428,7 @@ impl Stylization {
     /// `res_given`, `smooth_given`: the user chose them).
     pub fn settings(&self, base: &Settings, picture: &Picture, light: DVec3, res_given: bool, smooth_given: bool) -> Settings {
         match self.stylized {
-            false => settings(base, light_floor(picture, light)),
+            false => settings(base, light_floor(picture, light), light_size(&picture.painting, &picture.disk, light, LIGHT_FLOOR)),
             true => {
                 // A picture too small to read a lean from draws its highlight at h.
                 let lean = highlight_lean(&picture.painting, &picture.disk, light).unwrap_or(1.0);

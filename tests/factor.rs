@@ -99,7 +99,7 @@ fn exact_products_of_1d_tables_are_recovered_to_machine_precision() {
             custom("c", Param::Radius, 12, |q| [q.l.x, 0.0]),
         ],
         method: Method::Cholesky,
-        light_prior: None, channels: Channels::Independent,
+        light_prior: None, light_radius_deg: 0.0, channels: Channels::Independent,
     };
     assert_exact_recovery(&settings, &queries(3000, 1), 2);
 }
@@ -112,7 +112,7 @@ fn exact_products_of_2d_tables_are_recovered_to_machine_precision() {
             custom("b", Param::Parabolic, 6, |q| [q.l.x, q.l.y]),
         ],
         method: Method::Cholesky,
-        light_prior: None, channels: Channels::Independent,
+        light_prior: None, light_radius_deg: 0.0, channels: Channels::Independent,
     };
     assert_exact_recovery(&settings, &queries(6000, 3), 4);
 }
@@ -125,7 +125,7 @@ fn exact_products_with_a_uv_factor_are_recovered_to_machine_precision() {
     let settings = Settings {
         factors: vec![custom("a", Param::Radius, 11, |q| [q.l.x, 0.0]), custom("b", Param::Radius, 7, |q| [q.l.y, 0.0]), uv],
         method: Method::Cholesky,
-        light_prior: None, channels: Channels::Independent,
+        light_prior: None, light_radius_deg: 0.0, channels: Channels::Independent,
     };
     assert_exact_recovery(&settings, &queries(6000, 5), 6);
 }
@@ -162,7 +162,7 @@ fn exact_products_with_half_difference_factors_are_recovered() {
                 f(Input::View, Param::Radius, Domain::Hemisphere, 7),
             ],
             method: Method::Cholesky,
-            light_prior: None, channels: Channels::Independent,
+            light_prior: None, light_radius_deg: 0.0, channels: Channels::Independent,
         };
         let truth = random_tables(&settings, 30 + k as u64);
         let pattern = directions(20_000, 40 + k as u64);
@@ -183,7 +183,7 @@ fn smooth_error(res: usize) -> f64 {
     let mut settings = Settings {
         factors: vec![custom("x", Param::Radius, res, |q| [q.uv.x, 0.0]), custom("y", Param::Radius, res, |q| [q.uv.y, 0.0])],
         method: Method::Cholesky,
-        light_prior: None, channels: Channels::Independent,
+        light_prior: None, light_radius_deg: 0.0, channels: Channels::Independent,
     };
     for f in &mut settings.factors {
         f.smooth = 1e-7;
@@ -332,7 +332,7 @@ fn bad_patterns_and_settings_are_errors_not_panics() {
     let settings = Settings {
         factors: vec![custom("c", Param::Radius, 8, |_| [0.0, 0.0]), custom("d", Param::Radius, 8, |q| [q.uv.x, 0.0])],
         method: Method::Cholesky,
-        light_prior: None, channels: Channels::Independent,
+        light_prior: None, light_radius_deg: 0.0, channels: Channels::Independent,
     };
     let p = queries(500, 9);
     let fit = prepare(&p, &settings).unwrap().solve(&vec![[0.3; 3]; 500], Mapping::Identity).unwrap();

@@ -101,7 +101,7 @@ fn headlit_samples_get_the_light_prior() {
     assert_eq!(prior.factors[0].damp, brdfpaint::factor::defaults::DAMP_HEADLIT);
     assert_eq!(prior.factors[1..], s.factors[1..]);
     // A prior the settings already have is kept (lit spheres choose their own).
-    let sphere = brdfpaint::litsphere::settings(&s, brdfpaint::litsphere::LIGHT_FLOOR);
+    let sphere = brdfpaint::litsphere::settings(&s, brdfpaint::litsphere::LIGHT_FLOOR, 0.0);
     assert_eq!(sphere.for_pattern(&lit), sphere);
 }
 

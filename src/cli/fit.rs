@@ -371,7 +371,7 @@ fn run_lit_sphere(image: &Path, args: &FitArgs, opts: &Options) -> Result<()> {
         litsphere::Outline::Background => "its background",
         litsphere::Outline::Edges => "the arc its edges show",
         litsphere::Outline::Faint => "a faint arc of its edges, no clear one (the viewer draws the circle; drag it there or give --disk CX,CY,R)",
-        litsphere::Outline::Inscribed => "none clear: taken as a MatCap, the disk inscribed in the square",
+        litsphere::Outline::Inscribed => "the MatCap layout: the disk inscribed in the square (no other circle shows clearly more of an outline)",
         litsphere::Outline::Given => "--disk",
     };
     println!("{}: outline from {how}; fitted at {}x{} pixels", image.display(), lit.view.painting.width, lit.view.painting.height);

@@ -21,7 +21,7 @@ pub const BOUND: f64 = 8.0;
 
 /// The physical shape of the light factor, $t(\theta_l)$ in the mapping's log space, at a
 /// node of a light-factor table.
-fn light_shape(spec: &FactorSpec, node: usize, map: &LogMap, c: usize, max: f64, eps: f64) -> f64 {
+fn light_shape(spec: &FactorSpec, node: usize, map: &LogMap, c: usize, max: f64, eps: f64, radius_deg: f64) -> f64 {
     let cos = match spec.param {
         Param::Radius => param::radius_inverse(param::warp_inverse(node as f64 / (spec.res - 1) as f64, spec.warp), spec.domain).cos(),
         Param::Parabolic | Param::Hemispherical => {
@@ -32,8 +32,24 @@ fn light_shape(spec: &FactorSpec, node: usize, map: &LogMap, c: usize, max: f64,
         // Not light parameterizations (Settings::validate): no shape to pull toward.
         Param::Uv | Param::Radii => 1.0,
     };
-    let s = max.max(1e-12) * (cos.max(0.0) * (1.0 - eps) + eps);
+    let s = max.max(1e-12) * (key_irradiance(cos, radius_deg) * (1.0 - eps) + eps);
     map.forward(c, s)
+}
+
+/// Irradiance from a spherical light of angular radius `radius_deg` at $\cos\theta_l$,
+/// relative to its value facing it: $\cos\theta_l$ where the whole light is above the
+/// horizon, 0 where none of it is, and between them the usual quadratic approximation
+/// $(\cos\theta_l + \sin\alpha)^2 / (4 \sin\alpha)$, whose value and slope meet both. A
+/// point light (radius 0) is $\max(\cos\theta_l, 0)$, with its corner at the terminator.
+pub fn key_irradiance(cos: f64, radius_deg: f64) -> f64 {
+    let s = radius_deg.to_radians().sin();
+    if cos >= s {
+        cos
+    } else if cos <= -s {
+        0.0
+    } else {
+        (cos + s).powi(2) / (4.0 * s)
+    }
 }
 
 /// $\mathbf R_p \tilde{\mathbf t}$: the light factor's regularization applied to its prior
@@ -48,7 +64,7 @@ pub(super) fn light_prior_rhs(settings: &Settings, design: &Design, map: &LogMap
         let rows = system::factor_regularization(spec, design.rows() as f64);
         let o = design.offsets[j];
         for c in 0..3 {
-            let t: Vec<f64> = (0..spec.len()).map(|i| light_shape(spec, i, map, c, max[c], eps)).collect();
+            let t: Vec<f64> = (0..spec.len()).map(|i| light_shape(spec, i, map, c, max[c], eps, settings.light_radius_deg)).collect();
             for row in &rows {
                 let rt: f64 = row.iter().map(|&(i, w)| w * t[i]).sum();
                 for &(i, w) in row {
@@ -228,6 +244,27 @@ mod tests {
     use super::*;
     use crate::factor::{Pattern, Query};
     use glam::DVec3;
+
+    /// The key light: a cosine away from the terminator, nothing behind the light's own
+    /// size, and value and slope continuous across both joins (no corner for the light
+    /// table to take); a point light keeps its corner.
+    #[test]
+    fn a_sized_key_light_meets_the_cosine_and_the_dark_without_a_corner() {
+        let radius = 10.0;
+        let s = f64::to_radians(radius).sin();
+        let e = |x: f64| key_irradiance(x, radius);
+        assert_eq!(e(0.7), 0.7);
+        assert_eq!(e(-s - 1e-9), 0.0);
+        let h = 1e-7;
+        let slope = |x: f64| (e(x + h) - e(x - h)) / (2.0 * h);
+        for join in [s, -s] {
+            assert!((e(join + h) - e(join - h)).abs() < 3e-7, "value jumps at {join}");
+            assert!((slope(join - 10.0 * h) - slope(join + 10.0 * h)).abs() < 1e-4, "slope jumps at {join}");
+        }
+        // At the horizon the light is half up: a quarter of its size's sine, not 0.
+        assert!((e(0.0) - s / 4.0).abs() < 1e-12);
+        assert_eq!((key_irradiance(1e-3, 0.0), key_irradiance(-1e-3, 0.0)), (1e-3, 0.0));
+    }
 
     /// The ceiling bounds the grid's peak from above, and is reached when every factor's
     /// largest node is the one the grid looks up: p, q and r peaked at θ = 0, where the

@@ -142,6 +142,10 @@ fn is_no_warp(w: &f64) -> bool {
     *w == 1.0
 }
 
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
 /// Largest node warp accepted.
 pub const MAX_WARP: f64 = 8.0;
 
@@ -209,6 +213,11 @@ pub struct Settings {
     /// `None`, the default: off. Lit spheres turn it on ([`crate::litsphere::settings`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub light_prior: Option<f64>,
+    /// The angular radius, degrees, of the key light whose irradiance is the light prior's
+    /// shape ([`super::bound::key_irradiance`]): 0, a point light, unless the caller knows
+    /// the light to be an area (a lit sphere lit by its surroundings, `litsphere::light_size`).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub light_radius_deg: f64,
     /// How the colour channels are fitted ([`Channels`]): independently by default, as the
     /// thesis does; stored settings without the field read as independent too.
     #[serde(default = "Channels::thesis")]
@@ -327,6 +336,7 @@ impl Settings {
             ],
             method: Method::Cholesky,
             light_prior: None,
+            light_radius_deg: 0.0,
             channels: Channels::default(),
         }
     }
@@ -490,6 +500,9 @@ impl Settings {
         }
         if let Some(e) = self.light_prior.filter(|e| !(e.is_finite() && *e > 0.0 && *e <= 1.0)) {
             return Err(Error::input(format!("light prior floor {e} must be in (0, 1]")));
+        }
+        if !(0.0..=90.0).contains(&self.light_radius_deg) {
+            return Err(Error::input(format!("key light radius {} degrees must be in [0, 90]", self.light_radius_deg)));
         }
         if self.unknowns() > MAX_UNKNOWNS {
             return Err(Error::input(format!(

@@ -95,11 +95,11 @@ const ACROSS: usize = 64;
 const AROUND: usize = 2 * FRAMES;
 
 /// The largest share, over [`AROUND`] white lights moved around the vertical axis from the
-/// view, of a sphere's lit pixels (seen from +z; each frame's floor its own brightest, as
-/// [`Palette::invented_among`] judges) that `palette` does not hold.
+/// view, of a sphere's lit pixels (seen from +z as [`frame`] sees it; each frame's floor its
+/// own brightest, as [`Palette::invented_among`] judges) that `palette` does not hold.
 pub fn invented(material: &Material, palette: &Palette) -> f64 {
-    // A light straight behind lights no point an orthographic view sees: that frame shows
-    // only the floor of the light factor, no shading, and is left out.
+    // A light straight behind lights no point the view sees: that frame shows only the
+    // floor of the light factor, no shading, and is left out.
     (0..AROUND)
         .filter(|&k| 2 * k != AROUND)
         .map(|k| {
@@ -109,17 +109,29 @@ pub fn invented(material: &Material, palette: &Palette) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The sphere's colours under a white light towards `light` (view frame), one per normal
-/// the orthographic view from +z sees.
+/// The sphere's colours under a white light towards `light` (view frame), one per pixel of
+/// a perspective camera on +z that frames it as the presets frame a model
+/// ([`crate::scene::preset::frame`]: 30° of field, the bounding sphere filling 85%): a model
+/// is seen so in the viewer and the renders, and there each point's view direction turns by
+/// up to the sphere's half-angle (13°) from the axis, so the rims meet the light at angles an
+/// orthographic sphere does not show.
 fn frame(material: &Material, light: DVec3) -> Vec<[f64; 3]> {
+    use crate::scene::preset::{FRAME_FILL, FRAME_YFOV};
+    let half_angle = (FRAME_FILL as f64 * (FRAME_YFOV as f64 / 2.0).tan()).atan();
+    let eye = DVec3::new(0.0, 0.0, 1.0 / half_angle.sin());
+    // The unit sphere's silhouette fills the square of ACROSS pixels.
+    let across = half_angle.tan();
     let mut out = Vec::with_capacity(ACROSS * ACROSS);
     for j in 0..ACROSS {
         for i in 0..ACROSS {
             let (x, y) = ((i as f64 + 0.5) / ACROSS as f64 * 2.0 - 1.0, 1.0 - (j as f64 + 0.5) / ACROSS as f64 * 2.0);
-            let r2 = x * x + y * y;
-            if r2 < 1.0 {
-                let n = DVec3::new(x, y, (1.0 - r2).sqrt());
-                out.push(material.shading(&SphereView::query(n, light, DVec3::Z)));
+            let ray = DVec3::new(x * across, y * across, -1.0).normalize();
+            // The nearer intersection of eye + t·ray with the unit sphere.
+            let b = eye.dot(ray);
+            let disc = b * b - (eye.length_squared() - 1.0);
+            if disc > 0.0 {
+                let n = (eye + ray * (-b - disc.sqrt())).normalize();
+                out.push(material.shading(&SphereView::query(n, light, -ray)));
             }
         }
     }

@@ -194,6 +194,24 @@ pub fn unlit_floor(p: &Painting, disk: &Disk, l: DVec3) -> Result<f64> {
     Ok(if lit > 0.0 { ((s[0] - s[2]) / lit).clamp(0.0, 1.0) } else { 0.0 })
 }
 
+/// Angular radius of an environment's key light, degrees: a window or a softbox about a
+/// metre across at three metres, the key of studio MatCaps and HDR environments.
+pub const ENVIRONMENT_KEY_DEG: f64 = 10.0;
+
+/// The angular radius of `p`'s key light `l`, degrees: where the side the light does not
+/// reach still shows light ([`unlit_floor`] above the prior's floor, `floor`), the picture was
+/// lit by its surroundings, whose key light is an area of them ([`ENVIRONMENT_KEY_DEG`]);
+/// where that side is dark, one compact light, a point (0). The size cannot be read from the
+/// terminator itself: a BRDF's own falloff towards grazing (a rough or coated base) softens it
+/// as much. A point light's corner at the terminator, taken by the light prior as its shape
+/// for a picture whose terminator is soft, showed as a crease along it on every model.
+pub fn light_size(p: &Painting, disk: &Disk, l: DVec3, floor: f64) -> f64 {
+    match unlit_floor(p, disk, l) {
+        Ok(unlit) if unlit > floor => ENVIRONMENT_KEY_DEG,
+        _ => 0.0,
+    }
+}
+
 /// Bands of a cosine in $[-1, 1]$ for [`estimate_tone_light`]: 0.0125 wide, so a tone edge
 /// of a 256-pixel disk crosses a band within a few pixels, and 16000 pixels put about 60 in
 /// each band the disk reaches.

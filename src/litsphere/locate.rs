@@ -110,7 +110,26 @@ fn locate_reading(p: &Painting, name: &str) -> Result<(Located, Option<Reading>)
         (Err(_), Ok(EdgeCircle::Faint(e))) => Ok(Located { disk: e.disk, outline: Outline::Faint, seen: e.seen }),
         (Err(e), _) => Err(e),
     }?;
+    let located = if square { matcap_layout(located, &edges, w, h) } else { located };
     Ok((located, Some(Reading { channels, coarse })))
+}
+
+/// A square picture is a MatCap, its sphere inscribed, unless the circle found shows more
+/// of an outline than the inscribed one by [`BETTER_BY`]: a sphere whose unlit side is as
+/// dark as the background shows only its lit arc, to which a smaller circle nearer the
+/// light fits as well as the inscribed one, and a rendered sphere's last pixel ring of
+/// the outline lies half a pixel inside it.
+fn matcap_layout(found: Located, edges: &[edges::Edge], w: usize, h: usize) -> Located {
+    let inscribed = Disk { cx: w as f64 / 2.0, cy: h as f64 / 2.0, r: w.min(h) as f64 / 2.0 };
+    if found.outline == Outline::Inscribed {
+        return found;
+    }
+    let (own, matcap) = (edges::support(edges, &found.disk, w, h), edges::support(edges, &inscribed, w, h));
+    if own.seen > matcap.seen + BETTER_BY {
+        found
+    } else {
+        Located { disk: inscribed, outline: Outline::Inscribed, seen: matcap.seen }
+    }
 }
 
 /// Where the sphere is: a circle fitted to the alpha channel when the picture has one, or

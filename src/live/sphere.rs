@@ -247,6 +247,11 @@ impl SphereSession {
         // The old view's prepare (if one runs) is dropped with it: its result is for the old light.
         session.replace_view(k, view);
         self.light = light;
+        // The light prior's floor and key light follow the light, as `fit --light` sets them
+        // (Stylization::settings); the new view is prepared again anyway.
+        if !self.stylization.stylized {
+            session.set_settings(self.settings(session.settings()))?;
+        }
         if self.wanted == Some(light) {
             self.wanted = None;
         }

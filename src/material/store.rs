@@ -246,7 +246,7 @@ impl Material {
             if t.factors.is_empty() {
                 return bad(format!("term {k} has no factors"));
             }
-            let settings = crate::factor::Settings { factors: t.factors.iter().map(|f| f.spec.clone()).collect(), method: Default::default(), light_prior: None, channels: Default::default() };
+            let settings = crate::factor::Settings { factors: t.factors.iter().map(|f| f.spec.clone()).collect(), method: Default::default(), light_prior: None, light_radius_deg: 0.0, channels: Default::default() };
             settings.validate().or_else(|e| bad(format!("term {k}: {e}")))?;
             for (j, f) in t.factors.iter().enumerate() {
                 if f.texels.len() != f.spec.len() {
@@ -306,7 +306,7 @@ fn check_before_decoding(file: &FileMaterial, dir: &Path, json: &Path) -> Result
         if !(1..=MAX_FACTORS).contains(&t.factors.len()) {
             return bad(format!("term {k} has {} factors; 1 to {MAX_FACTORS} are read (the most the renderer multiplies)", t.factors.len()));
         }
-        let settings = crate::factor::Settings { factors: t.factors.iter().map(|f| f.spec.clone()).collect(), method: Default::default(), light_prior: None, channels: Default::default() };
+        let settings = crate::factor::Settings { factors: t.factors.iter().map(|f| f.spec.clone()).collect(), method: Default::default(), light_prior: None, light_radius_deg: 0.0, channels: Default::default() };
         settings.validate().or_else(|e| bad(format!("term {k}: {e}")))?;
         for f in &t.factors {
             let side = if f.spec.dim() == 1 { (f.spec.res, 1) } else { (f.spec.res, f.spec.res) };
