@@ -84,14 +84,15 @@ pub fn choose(first: f64, mut invented_with: impl FnMut(Channels, Mapping) -> Re
     Ok(chosen)
 }
 
-/// Normals across the sphere's diameter: 64 puts about 3200 samples on the disk, so one
-/// sample is 0.03% of it, and a light 22.5° short of straight behind lights a crescent of
-/// about 120 of them ((1 + cos 157.5°) / 2 of the disk).
-const ACROSS: usize = 64;
+/// Pixels across the sphere ([`frame`]): 160 puts about 20,000 samples on the disk, and a
+/// light 22.5° short of straight behind lights a crescent of about 100 of them (the
+/// perspective view sees less of the far side than an orthographic one), so one pixel is
+/// 1% of that frame, under the 5% a material may invent ([`INVENTED`]).
+const ACROSS: usize = 160;
 
 /// Lights around the vertical axis: twice [`FRAMES`], so one lands 22.5° short of straight
 /// behind, where a perspective view of a model (the sweep of `study::colour`) sees lit rims
-/// that an orthographic sphere lit from straight behind does not show.
+/// that a sphere lit from straight behind does not show.
 const AROUND: usize = 2 * FRAMES;
 
 /// The largest share, over [`AROUND`] white lights moved around the vertical axis from the
