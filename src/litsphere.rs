@@ -181,19 +181,20 @@ pub const LIGHT_DAMP: f64 = 1e-3;
 /// unless the picture shows it ([`light_floor`]).
 pub const LIGHT_FLOOR: f64 = crate::factor::defaults::LIGHT_FLOOR;
 
-/// The light prior's floor for `picture` lit from `light`: under a light behind the sphere
+/// The light prior's floor for a picture lit from `light` whose unlit side shows `unlit`
+/// ([`unlit_floor`]): under a light behind the sphere
 /// more than half the disk faces away from it and shows that floor directly, lit by what is
-/// not the key light (an environment's sky, a fill light), so the picture's own
-/// ([`unlit_floor`]) when brighter than [`LIGHT_FLOOR`]; otherwise the picture shows it at
+/// not the key light (an environment's sky, a fill light), so the picture's own when
+/// brighter than [`LIGHT_FLOOR`]; otherwise the picture shows it at
 /// most at the terminator, and [`LIGHT_FLOOR`] keeps the material darkening when relit from
 /// behind. A floor below the picture's would set the prior against the data on the whole
 /// front, and the smoothing of that gap carries it into the lit side no light in the picture
 /// reaches: relit from the front, such a material blew out to white.
-pub fn light_floor(picture: &Picture, light: DVec3) -> f64 {
+pub fn light_floor(light: DVec3, unlit: f64) -> f64 {
     if light.z >= 0.0 {
         return LIGHT_FLOOR;
     }
-    unlit_floor(&picture.painting, &picture.disk, light.normalize()).map_or(LIGHT_FLOOR, |f| f.max(LIGHT_FLOOR))
+    unlit.max(LIGHT_FLOOR)
 }
 
 /// The fit settings of a lit sphere: `base` with the light factor drawn to its physical
@@ -428,7 +429,12 @@ impl Stylization {
     /// `res_given`, `smooth_given`: the user chose them).
     pub fn settings(&self, base: &Settings, picture: &Picture, light: DVec3, res_given: bool, smooth_given: bool) -> Settings {
         match self.stylized {
-            false => settings(base, light_floor(picture, light), light_size(&picture.painting, &picture.disk, light, LIGHT_FLOOR)),
+            false => {
+                // What the unlit side shows sets both the floor and the key light's size; a
+                // picture whose shading cannot be read shows nothing there.
+                let unlit = unlit_floor(&picture.painting, &picture.disk, light.normalize()).unwrap_or(0.0);
+                settings(base, light_floor(light, unlit), light_size(unlit, LIGHT_FLOOR))
+            }
             true => {
                 // A picture too small to read a lean from draws its highlight at h.
                 let lean = highlight_lean(&picture.painting, &picture.disk, light).unwrap_or(1.0);

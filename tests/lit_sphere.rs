@@ -63,7 +63,7 @@ fn light_of_rendered_analytic_spheres_within_10_degrees() {
 #[test]
 fn an_environment_lit_matcap_has_no_crease_at_its_terminator() {
     use brdfpaint::brdf::SphereView;
-    use brdfpaint::litsphere::{light_size, Picture, ENVIRONMENT_KEY_DEG, LIGHT_FLOOR};
+    use brdfpaint::litsphere::{light_size, unlit_floor, Picture, ENVIRONMENT_KEY_DEG, LIGHT_FLOOR};
     let lum = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
     let dir = tempfile::tempdir().unwrap();
     for (stem, picture_crease) in [("ceramic_dark", 0.0005), ("jade", 0.0068), ("clay_muddy", 0.0229)] {
@@ -73,7 +73,7 @@ fn an_environment_lit_matcap_has_no_crease_at_its_terminator() {
         assert!(run.status.success(), "{stem}: {}", String::from_utf8_lossy(&run.stderr));
         let picture = Picture::read(&path, 512).unwrap();
         let l = estimate_light(&picture.painting, &picture.disk).unwrap().direction;
-        assert_eq!(light_size(&picture.painting, &picture.disk, l, LIGHT_FLOOR), ENVIRONMENT_KEY_DEG, "{stem}");
+        assert_eq!(light_size(unlit_floor(&picture.painting, &picture.disk, l).unwrap(), LIGHT_FLOOR), ENVIRONMENT_KEY_DEG, "{stem}");
         let material = Material::load(&out).unwrap();
         let s = |n: DVec3| lum(material.shading(&SphereView::query(n, l, DVec3::Z)));
         // The terminator's great circle, and the points 4° to either side of it.
@@ -99,7 +99,7 @@ fn an_environment_lit_matcap_has_no_crease_at_its_terminator() {
     let light = DVec3::new(1.0, 0.3, 0.4);
     let picture = sphere_picture(&Analytic::Lambert { albedo: [0.6, 0.5, 0.4] }, light, 160, (240, 200), (50, 20));
     let (disk, _) = find_disk(&picture, "sphere").unwrap();
-    assert_eq!(light_size(&picture, &disk, light.normalize(), LIGHT_FLOOR), 0.0);
+    assert_eq!(light_size(unlit_floor(&picture, &disk, light.normalize()).unwrap(), LIGHT_FLOOR), 0.0);
 }
 
 /// The search reaches behind the sphere (all but 25° about straight behind, `MIN_LIGHT_Z`).

@@ -198,17 +198,18 @@ pub fn unlit_floor(p: &Painting, disk: &Disk, l: DVec3) -> Result<f64> {
 /// metre across at three metres, the key of studio MatCaps and HDR environments.
 pub const ENVIRONMENT_KEY_DEG: f64 = 10.0;
 
-/// The angular radius of `p`'s key light `l`, degrees: where the side the light does not
-/// reach still shows light ([`unlit_floor`] above the prior's floor, `floor`), the picture was
-/// lit by its surroundings, whose key light is an area of them ([`ENVIRONMENT_KEY_DEG`]);
-/// where that side is dark, one compact light, a point (0). The size cannot be read from the
+/// The angular radius of a picture's key light, degrees, from the light its unlit side shows
+/// (`unlit`, [`unlit_floor`]): above the prior's floor (`floor`), the picture was lit by its
+/// surroundings, whose key light is an area of them ([`ENVIRONMENT_KEY_DEG`]); where that
+/// side is dark, one compact light, a point (0). The size cannot be read from the
 /// terminator itself: a BRDF's own falloff towards grazing (a rough or coated base) softens it
 /// as much. A point light's corner at the terminator, taken by the light prior as its shape
 /// for a picture whose terminator is soft, showed as a crease along it on every model.
-pub fn light_size(p: &Painting, disk: &Disk, l: DVec3, floor: f64) -> f64 {
-    match unlit_floor(p, disk, l) {
-        Ok(unlit) if unlit > floor => ENVIRONMENT_KEY_DEG,
-        _ => 0.0,
+pub fn light_size(unlit: f64, floor: f64) -> f64 {
+    if unlit > floor {
+        ENVIRONMENT_KEY_DEG
+    } else {
+        0.0
     }
 }
 

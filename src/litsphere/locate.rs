@@ -124,8 +124,9 @@ fn matcap_layout(found: Located, edges: &[edges::Edge], w: usize, h: usize) -> L
     if found.outline == Outline::Inscribed {
         return found;
     }
-    let (own, matcap) = (edges::support(edges, &found.disk, w, h), edges::support(edges, &inscribed, w, h));
-    if own.seen > matcap.seen + BETTER_BY {
+    // `found.seen` is its support on the same edges (every branch of locate_reading).
+    let matcap = edges::support(edges, &inscribed, w, h);
+    if found.seen > matcap.seen + BETTER_BY {
         found
     } else {
         Located { disk: inscribed, outline: Outline::Inscribed, seen: matcap.seen }
